@@ -1,0 +1,110 @@
+#pragma once
+// Reading a deal.II parameter file whose sections hold user-named entries
+// (materials, blocks, boundary conditions, regions): the names decide which
+// subsections exist, so the file is read in passes. Pass 1 finds the names,
+// pass 2 the model chosen for each name, the last pass declares everything and
+// parses strictly, so that a misspelled key is an error, never a silent default.
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  constexpr unsigned int dim = 3;
+
+  using dealii::ParameterHandler;
+
+  /// Comma separated list of names -> trimmed, non-empty names; duplicates are an error.
+  std::vector<std::string>
+  split_names(const std::string &list, const std::string &where);
+
+  /// Declares the names list entry "Names" in the current subsection.
+  void
+  declare_names_entry(ParameterHandler &prm, const std::string &what);
+
+  /// Reads @p filename into @p prm. With @p strict false, keys not declared
+  /// yet are skipped (an early pass). Errors name the file and the line.
+  void
+  parse_input_file(ParameterHandler  &prm,
+                   const std::string &filename,
+                   const bool         strict);
+
+  /// Throws ExcMessage naming the key @p path if @p value is not positive.
+  void
+  require_positive(const double value, const std::string &path);
+
+  /**
+   * A registry of named models (materials, damage models): each file
+   * registers its class with a name, a documentation string and its
+   * declare_parameters function; the valid names come from here.
+   */
+  template <class Base>
+  class Registry
+  {
+  public:
+    struct Entry
+    {
+      std::string                                  name;
+      std::string                                  documentation;
+      std::function<void(ParameterHandler &)>      declare;
+      std::function<std::unique_ptr<Base>()>       create;
+    };
+
+    static Registry &
+    instance()
+    {
+      static Registry registry;
+      return registry;
+    }
+
+    bool
+    add(const Entry &entry)
+    {
+      entries[entry.name] = entry;
+      return true;
+    }
+
+    const Entry &
+    get(const std::string &name, const std::string &where) const
+    {
+      const auto it = entries.find(name);
+      AssertThrow(it != entries.end(),
+                  dealii::ExcMessage(where + ": unknown model '" + name +
+                                     "'; valid names are: " + names(", ")));
+      return it->second;
+    }
+
+    std::string
+    names(const std::string &separator = "|") const
+    {
+      std::string s;
+      for (const auto &e : entries)
+        s += (s.empty() ? "" : separator) + e.first;
+      return s;
+    }
+
+    const std::map<std::string, Entry> &
+    all() const
+    {
+      return entries;
+    }
+
+  private:
+    std::map<std::string, Entry> entries;
+  };
+} // namespace perideal
+
+#define PERIDEAL_REGISTER(Base, Class, name, doc)                          \
+  namespace                                                                \
+  {                                                                        \
+    const bool registered_##Class = ::perideal::Registry<Base>::instance() \
+      .add({name, doc, &Class::declare_parameters, []() {                  \
+              return std::unique_ptr<Base>(new Class());                   \
+            }});                                                           \
+  }

@@ -1,0 +1,96 @@
+#pragma once
+// Cells to peridynamic points, and the nonlocal ghost layer.
+//
+// Every locally owned active cell of a peridynamic block is one point: its
+// centroid, its measure as volume, its block. Points are numbered locally as
+// owned points first (in the triangulation's cell order, i.e. along p4est's
+// space-filling curve), then the nonlocal ghosts in ascending global index:
+// the numbering of Utilities::MPI::Partitioner, so that every per-point field
+// is a LinearAlgebra::distributed::Vector and the bond arrays index it
+// directly. A scalar field uses scalar_partitioner, a vector field (dim
+// entries per point, interleaved) vector_partitioner; both describe the same
+// ghost set.
+
+#include <perideal/base/input.h>
+
+#include <deal.II/base/partitioner.h>
+#include <deal.II/base/point.h>
+#include <deal.II/dofs/dof_handler.h>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace perideal
+{
+  using CellIterator = dealii::DoFHandler<dim>::active_cell_iterator;
+  using PointKey     = std::array<unsigned int, 4>;
+
+  class PointCloud
+  {
+  public:
+    /**
+     * Points from the locally owned cells for which @p block_of returns a
+     * block number (-1: not a peridynamic cell); then every point owned
+     * elsewhere that lies within @p max_horizon of this rank's bounding box
+     * is received as a ghost candidate. Collective.
+     */
+    void
+    build(const dealii::DoFHandler<dim>            &dof_handler,
+          const std::function<int(const CellIterator &)> &block_of,
+          const double                               max_horizon,
+          const MPI_Comm                             comm);
+
+    /**
+     * Keep only the ghost candidates marked in @p used (indexed by local
+     * point), renumber them after the owned points in ascending global index
+     * and build the partitioners. Returns the new local index of every old
+     * one (unsigned(-1) for dropped ghosts).
+     */
+    std::vector<unsigned int>
+    finalize_ghosts(const std::vector<bool> &used, const MPI_Comm comm);
+
+    unsigned int
+    n_owned() const
+    {
+      return n_owned_points;
+    }
+    unsigned int
+    n_local() const
+    {
+      return volume.size();
+    }
+    dealii::types::global_dof_index
+    n_global() const
+    {
+      return n_global_points;
+    }
+
+    dealii::Point<dim>
+    position(const unsigned int i) const
+    {
+      return {X[3 * i], X[3 * i + 1], X[3 * i + 2]};
+    }
+
+    /// A 64-bit hash of the point's key: the same on any number of ranks.
+    std::uint64_t
+    hash(const unsigned int i) const;
+
+    std::vector<double>                          X;      // reference position, dim per point
+    std::vector<double>                          volume; // cell measure
+    std::vector<unsigned short>                  block;  // block number
+    std::vector<PointKey>                        key;    // CellId: rank-independent identity and order
+    std::vector<dealii::types::global_dof_index> gid;    // global point index
+    std::vector<CellIterator>                    cell;   // owned points only
+
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> scalar_partitioner;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> vector_partitioner;
+
+  private:
+    unsigned int                    n_owned_points  = 0;
+    dealii::types::global_dof_index n_global_points = 0;
+    dealii::types::global_dof_index first_gid       = 0;
+  };
+} // namespace perideal

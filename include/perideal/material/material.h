@@ -1,0 +1,134 @@
+#pragma once
+// The Material interface: force density on the owned points of one block.
+//
+// A material is serial code over flat arrays; it never calls MPI. A material
+// whose force needs a neighbor's derived value (LPS: the dilatation) computes
+// it in compute_stage() into a named per-point field that it lists in
+// stage_fields(); the core makes those fields ghosted before compute_force().
+// Constant per-point fields filled in initialize() and listed in
+// constant_fields() are made ghosted once, after set-up.
+//
+// A new model is one file in source/material/ with PERIDEAL_REGISTER(Material,
+// ClassName, "Name", "documentation") at its bottom; nothing else changes.
+
+#include <perideal/base/input.h>
+#include <perideal/discretization/point_cloud.h>
+#include <perideal/neighborhood/bonds.h>
+
+#include <deal.II/lac/la_parallel_vector.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  using VectorType = dealii::LinearAlgebra::distributed::Vector<double>;
+
+  /// Named scalar per-point fields on the point partitioner, made on demand.
+  class FieldStore
+  {
+  public:
+    explicit FieldStore(const PointCloud &cloud)
+      : cloud(cloud)
+    {}
+
+    VectorType &
+    get(const std::string &name)
+    {
+      auto it = fields.find(name);
+      if (it == fields.end())
+        it = fields.emplace(name, VectorType(cloud.scalar_partitioner)).first;
+      return it->second;
+    }
+
+    bool
+    has(const std::string &name) const
+    {
+      return fields.count(name) > 0;
+    }
+
+    std::size_t
+    memory_consumption() const;
+
+  private:
+    const PointCloud                 &cloud;
+    std::map<std::string, VectorType> fields;
+  };
+
+  /// What a material reads and writes in one evaluation.
+  struct ModelState
+  {
+    const PointCloud   &cloud;
+    const Bonds        &bonds;
+    const std::uint8_t *broken; // 1 = broken, per bond; nullptr without damage
+    const double       *u;      // displacement, dim per local point (owned + ghosts)
+    double             *force;  // force density, dim per owned point (added to)
+    double             *energy; // strain energy density per owned point, or nullptr
+    FieldStore         &fields;
+  };
+
+  class Material
+  {
+  public:
+    virtual ~Material() = default;
+
+    /// Called inside the material's subsection; @p path names it in errors.
+    virtual void
+    parse_parameters(ParameterHandler &prm, const std::string &path) = 0;
+
+    /// The block this instance serves and its horizon.
+    void
+    set_block(const unsigned int block_, const double horizon_)
+    {
+      block   = block_;
+      horizon = horizon_;
+    }
+
+    virtual double
+    density() const = 0;
+    virtual double
+    bulk_modulus() const = 0;
+    virtual double
+    shear_modulus() const = 0;
+
+    /// Reference-state set-up (e.g. weighted volume) over the block's points.
+    virtual void
+    initialize(const ModelState &, const std::vector<unsigned int> &)
+    {}
+    virtual std::vector<std::string>
+    constant_fields() const
+    {
+      return {};
+    }
+
+    virtual void
+    compute_stage(const ModelState &, const std::vector<unsigned int> &) const
+    {}
+    virtual std::vector<std::string>
+    stage_fields() const
+    {
+      return {};
+    }
+
+    /// Adds the force density of every point in @p points to state.force
+    /// and, if state.energy is set, writes its strain energy density.
+    virtual void
+    compute_force(const ModelState &state, const std::vector<unsigned int> &points) const = 0;
+
+    /// The smallest stable explicit time step over @p points, from this
+    /// material's own stiffness (a Gershgorin bound of its tangent).
+    virtual double
+    stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const = 0;
+
+  protected:
+    unsigned int block   = 0;
+    double       horizon = 0;
+  };
+
+  /// Declares the "Model" key of a material subsection; the chosen model then
+  /// declares its own keys beside it.
+  void
+  declare_material_model_entry(ParameterHandler &prm);
+} // namespace perideal

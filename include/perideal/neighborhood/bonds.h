@@ -1,0 +1,41 @@
+#pragma once
+// Bond families in flat CSR form over the owned points: the bonds of owned
+// point i are neighbor[offsets[i] .. offsets[i+1]), local point indices.
+// Bond i->j and j->i are separate entries, each evaluated by its owner.
+// Each family is sorted by the neighbors' rank-independent keys, so sums over
+// a family run in the same order on any number of ranks and a run gives the
+// same numbers on 1 and on N ranks.
+
+#include <perideal/discretization/point_cloud.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace perideal
+{
+  struct Bonds
+  {
+    std::vector<std::size_t>  offsets;  // n_owned + 1
+    std::vector<unsigned int> neighbor; // local point index, one per bond
+
+    std::size_t
+    n_bonds() const
+    {
+      return neighbor.size();
+    }
+  };
+
+  /// Relative tolerance of the horizon test: |xi| <= horizon * (1 + tol).
+  constexpr double horizon_tolerance = 1e-9;
+
+  /**
+   * Finds the family of every owned point in the reference configuration
+   * (R-tree over owned points and ghost candidates; point i's family is every
+   * other point within horizon[block[i]]), drops the ghost candidates no
+   * family uses and renumbers @p cloud. Collective.
+   */
+  Bonds
+  find_families(PointCloud                &cloud,
+                const std::vector<double> &block_horizon,
+                const MPI_Comm             comm);
+} // namespace perideal

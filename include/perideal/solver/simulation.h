@@ -1,0 +1,140 @@
+#pragma once
+// The simulation: reads the parameter file, builds mesh, points, bonds and
+// models, and runs the explicit velocity-Verlet integrator with lumped mass.
+// One gather/evaluate routine (compute_forces) serves every step, the
+// initial state and the energy checks.
+
+#include <perideal/base/input.h>
+#include <perideal/conditions/boundary_conditions.h>
+#include <perideal/damage/damage_model.h>
+#include <perideal/discretization/point_cloud.h>
+#include <perideal/geometry/region.h>
+#include <perideal/geometry/scene.h>
+#include <perideal/material/material.h>
+#include <perideal/neighborhood/bonds.h>
+#include <perideal/output/output.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  /// The user-chosen names of a parameter file (and the model of each).
+  struct DeckNames
+  {
+    std::vector<std::string>           regions, blocks, conditions;
+    std::map<std::string, std::string> materials, damage_models; // name -> model ("" unknown yet)
+  };
+
+  /// Declares every section of the parameter file for the given names.
+  void
+  declare_parameters(ParameterHandler &prm, const DeckNames &names);
+
+  /// The full parameter reference, with one example entry of every model.
+  void
+  print_parameter_reference(std::ostream &out, const bool markdown);
+
+  struct Block
+  {
+    std::string               name;
+    std::vector<unsigned int> material_ids;
+    std::string               region;
+    std::string               material_name, damage_name;
+    double                    horizon = 0;
+    std::unique_ptr<Material>    material;
+    std::unique_ptr<DamageModel> damage;
+    std::vector<unsigned int>    points; // owned points of this block
+  };
+
+  class Simulation
+  {
+  public:
+    Simulation(const std::string &parameter_file, const MPI_Comm comm);
+
+    /// Sets up and prints points, bonds, memory estimate and time step.
+    void
+    dry_run();
+
+    /// Sets up and integrates to the final time.
+    void
+    run();
+
+  private:
+    void
+    read_parameters(const std::string &parameter_file);
+    void
+    setup();
+    void
+    apply_initial_conditions();
+    void
+    apply_prescribed(const double time, const double dt);
+    void
+    compute_forces(const bool with_energy);
+    double
+    stable_time_step();
+    void
+    write_output(const unsigned int step, const double time);
+    std::vector<std::pair<std::string, double>>
+    global_quantities(const unsigned int step, const double time);
+    void
+    print_setup_report();
+    void
+    print_summary(const double loop_seconds, const unsigned int steps_done);
+    std::string
+    locate_nonfinite();
+
+    MPI_Comm                                  comm;
+    dealii::ConditionalOStream                pcout;
+    dealii::TimerOutput                       timer;
+    dealii::parallel::distributed::Triangulation<dim> triangulation;
+    dealii::FESystem<dim>                     fe;
+    dealii::DoFHandler<dim>                   dof_handler;
+
+    Scene                                       scene;
+    std::map<std::string, std::unique_ptr<Region>> regions;
+    std::vector<Block>                          blocks;
+    std::vector<BoundaryCondition>              conditions;
+    OutputWriter                                output;
+
+    // Solver
+    double       initial_time = 0, final_time = 0, fixed_dt = 0, safety_factor = 0;
+    unsigned int requested_steps = 0;
+    double       energy_growth_limit = 0;
+
+    // Points, bonds and state
+    PointCloud                 cloud;
+    Bonds                      bonds;
+    std::vector<std::uint8_t>  broken;       // per bond, only with a damage model
+    std::unique_ptr<FieldStore> fields;
+    VectorType                 displacement; // ghosted, dim per point
+    VectorType                 velocity, force;
+    std::vector<double>        energy_density;
+    std::vector<double>        mass_density; // per owned point
+    std::vector<double>        body_force;   // per owned point and component; empty if none
+    bool                       body_force_depends_on_time = false;
+    std::vector<std::string>   ghosted_stage_fields;
+
+    // Prescribed components: (point, component, condition)
+    struct Constraint
+    {
+      unsigned int point, component, condition;
+    };
+    std::vector<Constraint> constraints;
+    std::vector<double>     constraint_force; // internal force at the constraints, previous step
+
+    // Diagnostics
+    double      dt = 0, dt_stable = 0;
+    double      external_work = 0, initial_energy = 0, last_strain_energy = 0, last_kinetic_energy = 0;
+    std::size_t broken_bond_count = 0; // directed entries, this rank
+    std::vector<std::string> warnings;
+    double      setup_seconds = 0;
+  };
+} // namespace perideal

@@ -1,0 +1,46 @@
+#include <perideal/conditions/boundary_conditions.h>
+
+#include <deal.II/base/utilities.h>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  void
+  BoundaryCondition::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Type", "Initial velocity",
+                      Patterns::Selection("Initial displacement|Initial velocity|"
+                                          "Prescribed displacement|Prescribed velocity|Body force"),
+                      "Initial displacement/velocity: set at the initial time. "
+                      "Prescribed displacement/velocity: imposed on the component at "
+                      "every step (Dirichlet). Body force: force per unit volume added "
+                      "to the component.");
+    prm.declare_entry("Region", "All", Patterns::Anything(),
+                      "The name of a region of Discretization/Regions, or All.");
+    prm.declare_entry("Component", "x", Patterns::Selection("x|y|z"),
+                      "The component the value applies to (Peridigm's 'Coordinate').");
+    prm.declare_entry("Value", "0", Patterns::Anything(),
+                      "muparser expression in x, y, z (reference position) and t. "
+                      "rnd(a) adds a uniform random number in [-a, a], the same for a "
+                      "point on any number of ranks; atan2, pow, floor and ceil are known.");
+    prm.declare_entry("Random seed", "0", Patterns::Integer(0),
+                      "Seed of rnd() in Value.");
+  }
+
+  void
+  BoundaryCondition::parse_parameters(ParameterHandler &prm, const std::string &path)
+  {
+    const std::string t = prm.get("Type");
+    type                = t == "Initial displacement"    ? Type::initial_displacement :
+                          t == "Initial velocity"        ? Type::initial_velocity :
+                          t == "Prescribed displacement" ? Type::prescribed_displacement :
+                          t == "Prescribed velocity"     ? Type::prescribed_velocity :
+                                                           Type::body_force;
+    region    = prm.get("Region");
+    component = prm.get("Component")[0] - 'x';
+    value     = std::make_unique<Expression>(prm.get("Value"),
+                                         path + "/Value",
+                                         prm.get_integer("Random seed"));
+  }
+} // namespace perideal

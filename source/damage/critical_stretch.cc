@@ -1,0 +1,95 @@
+// Critical stretch (Silling and Askari 2005): bond i-j breaks for good when
+// its stretch s = (|y_j - y_i| - |xi|)/|xi| exceeds s_c. s_c is given, or
+// derived from the critical energy release rate G_c of the PMB material:
+//   s_c = sqrt(5 G_c / (9 K delta)).
+// Both owners compute the same s from the same positions, so both halves of
+// a bond break in the same step.
+
+#include <perideal/damage/damage_model.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <cmath>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  class CriticalStretch : public DamageModel
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Critical stretch", "0", Patterns::Double(0),
+                        "s_c. 0: derive it from the critical energy release rate.");
+      prm.declare_entry("Critical energy release rate", "0", Patterns::Double(0),
+                        "G_c, used when Critical stretch is 0: s_c = sqrt(5 G_c / (9 K delta)).");
+    }
+
+    void
+    parse_parameters(ParameterHandler &prm, const std::string &path_) override
+    {
+      path         = path_;
+      given_sc     = prm.get_double("Critical stretch");
+      release_rate = prm.get_double("Critical energy release rate");
+      AssertThrow(given_sc > 0 || release_rate > 0,
+                  ExcMessage(path + ": set 'Critical stretch' or 'Critical energy "
+                                    "release rate' to a positive value"));
+    }
+
+    void
+    initialize(const Material &material, const double horizon) override
+    {
+      sc = given_sc > 0 ?
+             given_sc :
+             std::sqrt(5 * release_rate / (9 * material.bulk_modulus() * horizon));
+    }
+
+    std::size_t
+    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const override
+    {
+      const double       *X        = state.cloud.X.data();
+      const double       *u        = state.u;
+      const std::size_t  *offsets  = state.bonds.offsets.data();
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      // Compare squared lengths: |y| > (1 + s_c)|xi|, no square root per bond.
+      const double factor = (1 + sc) * (1 + sc);
+      std::size_t  n      = 0;
+      for (const unsigned int i : points)
+        {
+          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
+          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
+          // both owners of a bond see the same length.
+          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              const unsigned int j  = neighbor[b];
+              const double       ex = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
+              const double       dx = (X[3 * j] + u[3 * j]) - pi;
+              const double       dy = (X[3 * j + 1] + u[3 * j + 1]) - qi;
+              const double       dz = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const std::uint8_t breaks =
+                (dx * dx + dy * dy + dz * dz) > factor * (ex * ex + ey * ey + ez * ez);
+              n += breaks & (1 - broken[b]);
+              broken[b] |= breaks;
+            }
+        }
+      return n;
+    }
+
+    std::string
+    describe() const override
+    {
+      return "critical stretch s_c = " + Utilities::to_string(sc, 6) +
+             (given_sc > 0 ? "" : " (from G_c = " + Utilities::to_string(release_rate) + ")");
+    }
+
+  private:
+    std::string path;
+    double      given_sc = 0, release_rate = 0, sc = 0;
+  };
+
+  PERIDEAL_REGISTER(DamageModel, CriticalStretch, "Critical stretch",
+                    "Bond breaks when its stretch exceeds s_c (given, or from G_c).")
+} // namespace perideal

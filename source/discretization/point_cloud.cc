@@ -1,0 +1,199 @@
+#include <perideal/base/expression.h>
+#include <perideal/discretization/point_cloud.h>
+
+#include <deal.II/base/bounding_box.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/index_set.h>
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    // What travels to a neighboring rank for one ghost point, as doubles
+    // (all integers involved are exact in a double): gid, x, volume, block, key.
+    constexpr unsigned int record_size = 1 + dim + 1 + 1 + 4;
+  } // namespace
+
+  std::uint64_t
+  PointCloud::hash(const unsigned int i) const
+  {
+    std::uint64_t h = 0;
+    for (const unsigned int k : key[i])
+      h = mix64(h ^ k);
+    return h;
+  }
+
+  void
+  PointCloud::build(const DoFHandler<dim>                          &dof_handler,
+                    const std::function<int(const CellIterator &)> &block_of,
+                    const double                                    max_horizon,
+                    const MPI_Comm                                  comm)
+  {
+    X.clear();
+    volume.clear();
+    block.clear();
+    key.clear();
+    gid.clear();
+    cell.clear();
+
+    for (const auto &c : dof_handler.active_cell_iterators())
+      if (c->is_locally_owned())
+        {
+          const int b = block_of(c);
+          if (b < 0)
+            continue;
+          const Point<dim> x = c->center();
+          for (unsigned int d = 0; d < dim; ++d)
+            X.push_back(x[d]);
+          volume.push_back(c->measure());
+          block.push_back(b);
+          key.push_back(c->id().template to_binary<dim>());
+          cell.push_back(c);
+        }
+    n_owned_points = volume.size();
+    {
+      unsigned long long mine = n_owned_points, before = 0;
+      MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+      first_gid = Utilities::MPI::this_mpi_process(comm) == 0 ? 0 : before;
+    }
+    n_global_points =
+      Utilities::MPI::sum(types::global_dof_index(n_owned_points), comm);
+    gid.resize(n_owned_points);
+    std::iota(gid.begin(), gid.end(), first_gid);
+
+    // Nonlocal ghosts: exchange bounding boxes, send every owned point that
+    // lies within the horizon of another rank's box to that rank.
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const unsigned int my_rank = Utilities::MPI::this_mpi_process(comm);
+    if (n_ranks == 1)
+      return;
+    std::array<double, 2 * dim> box;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        box[d]       = std::numeric_limits<double>::max();
+        box[dim + d] = -std::numeric_limits<double>::max();
+      }
+    for (unsigned int i = 0; i < n_owned_points; ++i)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          box[d]       = std::min(box[d], X[3 * i + d]);
+          box[dim + d] = std::max(box[dim + d], X[3 * i + d]);
+        }
+    const auto boxes = Utilities::MPI::all_gather(comm, box);
+
+    // A small relative margin keeps points at exactly the horizon.
+    const double reach = max_horizon * (1 + 1e-6);
+    std::map<unsigned int, std::vector<double>> to_send;
+    for (unsigned int r = 0; r < n_ranks; ++r)
+      {
+        if (r == my_rank || boxes[r][0] > boxes[r][dim])
+          continue; // myself, or a rank without points
+        std::vector<double> records;
+        for (unsigned int i = 0; i < n_owned_points; ++i)
+          {
+            bool inside = true;
+            for (unsigned int d = 0; d < dim && inside; ++d)
+              inside = X[3 * i + d] >= boxes[r][d] - reach &&
+                       X[3 * i + d] <= boxes[r][dim + d] + reach;
+            if (inside)
+              {
+                records.push_back(gid[i]);
+                for (unsigned int d = 0; d < dim; ++d)
+                  records.push_back(X[3 * i + d]);
+                records.push_back(volume[i]);
+                records.push_back(block[i]);
+                for (const unsigned int k : key[i])
+                  records.push_back(k);
+              }
+          }
+        if (!records.empty())
+          to_send[r] = std::move(records);
+      }
+    const auto received = Utilities::MPI::some_to_some(comm, to_send);
+    for (const auto &entry : received)
+      for (std::size_t r = 0; r < entry.second.size(); r += record_size)
+        {
+          const double *p = entry.second.data() + r;
+          gid.push_back(static_cast<types::global_dof_index>(p[0]));
+          for (unsigned int d = 0; d < dim; ++d)
+            X.push_back(p[1 + d]);
+          volume.push_back(p[1 + dim]);
+          block.push_back(static_cast<unsigned short>(p[2 + dim]));
+          PointKey k;
+          for (unsigned int c = 0; c < 4; ++c)
+            k[c] = static_cast<unsigned int>(p[3 + dim + c]);
+          key.push_back(k);
+        }
+  }
+
+  std::vector<unsigned int>
+  PointCloud::finalize_ghosts(const std::vector<bool> &used, const MPI_Comm comm)
+  {
+    const unsigned int        n_old = volume.size();
+    std::vector<unsigned int> ghosts;
+    for (unsigned int i = n_owned_points; i < n_old; ++i)
+      if (used[i])
+        ghosts.push_back(i);
+    std::sort(ghosts.begin(), ghosts.end(), [&](unsigned int a, unsigned int b) {
+      return gid[a] < gid[b];
+    });
+
+    std::vector<unsigned int> new_index(n_old, numbers::invalid_unsigned_int);
+    for (unsigned int i = 0; i < n_owned_points; ++i)
+      new_index[i] = i;
+    for (unsigned int g = 0; g < ghosts.size(); ++g)
+      new_index[ghosts[g]] = n_owned_points + g;
+
+    const unsigned int n_new = n_owned_points + ghosts.size();
+    std::vector<double>                  X_new(dim * n_new);
+    std::vector<double>                  volume_new(n_new);
+    std::vector<unsigned short>          block_new(n_new);
+    std::vector<PointKey>                key_new(n_new);
+    std::vector<types::global_dof_index> gid_new(n_new);
+    for (unsigned int i = 0; i < n_old; ++i)
+      if (new_index[i] != numbers::invalid_unsigned_int)
+        {
+          const unsigned int j = new_index[i];
+          for (unsigned int d = 0; d < dim; ++d)
+            X_new[dim * j + d] = X[dim * i + d];
+          volume_new[j] = volume[i];
+          block_new[j]  = block[i];
+          key_new[j]    = key[i];
+          gid_new[j]    = gid[i];
+        }
+    X.swap(X_new);
+    volume.swap(volume_new);
+    block.swap(block_new);
+    key.swap(key_new);
+    gid.swap(gid_new);
+
+    IndexSet owned(n_global_points), ghost(n_global_points);
+    owned.add_range(first_gid, first_gid + n_owned_points);
+    for (unsigned int i = n_owned_points; i < n_new; ++i)
+      ghost.add_index(gid[i]);
+    owned.compress();
+    ghost.compress();
+    scalar_partitioner =
+      std::make_shared<Utilities::MPI::Partitioner>(owned, ghost, comm);
+
+    IndexSet owned_v(dim * n_global_points), ghost_v(dim * n_global_points);
+    owned_v.add_range(dim * first_gid, dim * (first_gid + n_owned_points));
+    std::vector<types::global_dof_index> ghost_entries;
+    ghost_entries.reserve(dim * (n_new - n_owned_points));
+    for (unsigned int i = n_owned_points; i < n_new; ++i)
+      for (unsigned int d = 0; d < dim; ++d)
+        ghost_entries.push_back(dim * gid[i] + d);
+    ghost_v.add_indices(ghost_entries.begin(), ghost_entries.end());
+    owned_v.compress();
+    ghost_v.compress();
+    vector_partitioner =
+      std::make_shared<Utilities::MPI::Partitioner>(owned_v, ghost_v, comm);
+    return new_index;
+  }
+} // namespace perideal

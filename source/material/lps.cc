@@ -1,0 +1,311 @@
+// Linear peridynamic solid (state based; Peridigm's "Elastic"), Silling et al.
+// 2007. With influence function omega(|xi|/delta), extension e = |y| - |xi|:
+//   weighted volume  m_i     = sum_j omega |xi|^2 V_j
+//   dilatation       theta_i = (3/m_i) sum_j omega |xi| e (1-d) V_j
+//   force state      t_ij    = omega [ (3 K theta_i / m_i) |xi| + (15 G / m_i) e^d ],
+//                    e^d     = e - theta_i |xi| / 3
+//   force density    f_i     = sum_j (t_ij + t_ji) (1-d) V_j M
+//   energy density   W_i     = K theta_i^2 / 2 + (15 G / 2 m_i) sum_j omega (e^d)^2 (1-d) V_j
+// Written as t_ij + t_ji = omega [ |xi| (alpha_i + alpha_j) + (beta_i + beta_j) e ]
+// with alpha = theta (3K - 5G)/m (ghosted each step) and beta = 15G/m (ghosted
+// once), the neighbor's half uses the neighbor's own moduli and weighted volume.
+// The weighted volume is that of the reference configuration (as Peridigm).
+
+#include <perideal/base/expression.h>
+#include <perideal/material/material.h>
+
+#include <cmath>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  class LPS : public Material
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
+      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
+      prm.declare_entry("Shear modulus", "0", Patterns::Double(), "Shear modulus G.");
+      prm.declare_entry("Influence function", "1", Patterns::Anything(),
+                        "omega as a muparser expression in r = |xi|/horizon, e.g. "
+                        "'1', '1/r', 'exp(-r*r)'. Non-constant functions are "
+                        "evaluated once per bond at set-up and stored (8 bytes per bond).");
+    }
+
+    void
+    parse_parameters(ParameterHandler &prm, const std::string &path) override
+    {
+      rho = prm.get_double("Density");
+      K   = prm.get_double("Bulk modulus");
+      G   = prm.get_double("Shear modulus");
+      require_positive(rho, path + "/Density");
+      require_positive(K, path + "/Bulk modulus");
+      require_positive(G, path + "/Shear modulus");
+      influence = std::make_unique<Expression>(prm.get("Influence function"),
+                                               path + "/Influence function",
+                                               0,
+                                               std::vector<std::string>{"r"});
+      constant_influence = true;
+      const double w1    = influence->value(Point<dim>(1, 0, 0), 0);
+      for (const double r : {0.0, 0.1, 0.3, 0.5, 0.7, 0.9})
+        if (influence->value(Point<dim>(r, 0, 0), 0) != w1)
+          constant_influence = false;
+      omega0 = w1;
+      AssertThrow(std::isfinite(omega0) && (omega0 > 0 || !constant_influence),
+                  ExcMessage(path + "/Influence function must be positive"));
+    }
+
+    double
+    density() const override
+    {
+      return rho;
+    }
+    double
+    bulk_modulus() const override
+    {
+      return K;
+    }
+    double
+    shear_modulus() const override
+    {
+      return G;
+    }
+
+    void
+    initialize(const ModelState &state, const std::vector<unsigned int> &points) override
+    {
+      const double *X = state.cloud.X.data();
+      const double *V = state.cloud.volume.data();
+      if (!constant_influence)
+        omega.assign(state.bonds.n_bonds(), 0.0);
+      VectorType &m     = state.fields.get("weighted_volume");
+      VectorType &beta  = state.fields.get("lps_beta");
+      VectorType &gamma = state.fields.get("lps_gamma");
+      VectorType &D     = state.fields.get("lps_coupling");
+      for (const unsigned int i : points)
+        {
+          double mi = 0, Ai = 0;
+          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+            {
+              const unsigned int j  = state.bonds.neighbor[b];
+              const double       ex = X[3 * j] - X[3 * i], ey = X[3 * j + 1] - X[3 * i + 1],
+                           ez = X[3 * j + 2] - X[3 * i + 2];
+              const double r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+              double       w  = omega0;
+              if (!constant_influence)
+                {
+                  w = influence->value(Point<dim>(r0 / horizon, 0, 0), 0);
+                  AssertThrow(std::isfinite(w) && w >= 0,
+                              ExcMessage("LPS influence function '" + influence->text() +
+                                         "' is negative or not finite at r = " +
+                                         std::to_string(r0 / horizon)));
+                  omega[b] = w;
+                }
+              mi += w * r0 * r0 * V[j];
+              Ai += w * r0 * V[j];
+            }
+          // m_i > 0: the core has already stopped a run with a point without bonds.
+          m.local_element(i)     = mi;
+          beta.local_element(i)  = 15 * G / mi;
+          gamma.local_element(i) = (3 * K - 5 * G) / mi;
+          D.local_element(i)     = std::abs(3 * K - 5 * G) / mi * Ai / mi;
+        }
+      state.fields.get("dilatation");
+    }
+
+    std::vector<std::string>
+    constant_fields() const override
+    {
+      return {"weighted_volume", "lps_beta", "lps_gamma", "lps_coupling"};
+    }
+
+    std::vector<std::string>
+    stage_fields() const override
+    {
+      return {"lps_alpha"};
+    }
+
+    void
+    compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
+    {
+      if (state.broken)
+        constant_influence ? dilatation<true, false>(state, points) :
+                             dilatation<true, true>(state, points);
+      else
+        constant_influence ? dilatation<false, false>(state, points) :
+                             dilatation<false, true>(state, points);
+    }
+
+    void
+    compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
+    {
+      const bool d = state.broken != nullptr, e = state.energy != nullptr,
+                 w = !constant_influence;
+      // Compile-time variants keep the bond loop free of branches.
+      if (d)
+        {
+          if (e)
+            w ? force<true, true, true>(state, points) : force<true, true, false>(state, points);
+          else
+            w ? force<true, false, true>(state, points) : force<true, false, false>(state, points);
+        }
+      else
+        {
+          if (e)
+            w ? force<false, true, true>(state, points) : force<false, true, false>(state, points);
+          else
+            w ? force<false, false, true>(state, points) : force<false, false, false>(state, points);
+        }
+    }
+
+    double
+    stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
+    {
+      // Gershgorin bound of the linearized LPS tangent, row by row:
+      //   rho_i lambda_i <= 2 sum_j (beta_i + beta_j) omega V_j           (pairwise part)
+      //                   + 6 |gamma_i| A_i^2 / m_i                        (own dilatation)
+      //                   + 6 sum_j omega |xi| V_j |gamma_j| A_j / m_j     (neighbors' dilatation)
+      // with A_i = sum_j omega |xi| V_j; the central difference limit is 2/sqrt(lambda).
+      const double     *X     = state.cloud.X.data();
+      const double     *V     = state.cloud.volume.data();
+      const VectorType &beta  = state.fields.get("lps_beta");
+      const VectorType &gamma = state.fields.get("lps_gamma");
+      const VectorType &m     = state.fields.get("weighted_volume");
+      const VectorType &D     = state.fields.get("lps_coupling");
+      double            dt    = std::numeric_limits<double>::max();
+      for (const unsigned int i : points)
+        {
+          double pair = 0, Ai = 0, neighbors = 0;
+          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+            {
+              const unsigned int j  = state.bonds.neighbor[b];
+              const double       ex = X[3 * j] - X[3 * i], ey = X[3 * j + 1] - X[3 * i + 1],
+                           ez = X[3 * j + 2] - X[3 * i + 2];
+              const double r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+              const double w  = constant_influence ? omega0 : omega[b];
+              pair += (beta.local_element(i) + beta.local_element(j)) * w * V[j];
+              Ai += w * r0 * V[j];
+              neighbors += w * r0 * V[j] * D.local_element(j);
+            }
+          const double lambda = (2 * pair + 6 * std::abs(gamma.local_element(i)) * Ai * Ai /
+                                              m.local_element(i) +
+                                 6 * neighbors) /
+                                rho;
+          if (lambda > 0)
+            dt = std::min(dt, 2 / std::sqrt(lambda));
+        }
+      return dt;
+    }
+
+  private:
+    double                      rho = 0, K = 0, G = 0;
+    std::unique_ptr<Expression> influence;
+    bool                        constant_influence = true;
+    double                      omega0             = 1;
+    std::vector<double>         omega; // per bond, only for a non-constant influence function
+
+    template <bool damage, bool weighted>
+    void
+    dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
+    {
+      const double       *X        = state.cloud.X.data();
+      const double       *V        = state.cloud.volume.data();
+      const double       *u        = state.u;
+      const std::size_t  *offsets  = state.bonds.offsets.data();
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      const std::uint8_t *broken   = state.broken;
+      const double       *w_bond   = omega.data();
+      const double       *m        = state.fields.get("weighted_volume").begin();
+      const double       *gamma    = state.fields.get("lps_gamma").begin();
+      double             *theta    = state.fields.get("dilatation").begin();
+      double             *alpha    = state.fields.get("lps_alpha").begin();
+      for (const unsigned int i : points)
+        {
+          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
+          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
+          // both owners of a bond see the same length.
+          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
+          double       sum = 0;
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              const unsigned int j  = neighbor[b];
+              const double       ex = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
+              const double       dx = (X[3 * j] + u[3 * j]) - pi;
+              const double       dy = (X[3 * j + 1] + u[3 * j + 1]) - qi;
+              const double       dz = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+              const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
+              double             w  = weighted ? w_bond[b] : omega0;
+              if (damage)
+                w *= 1.0 - broken[b];
+              sum += w * r0 * (r - r0) * V[j];
+            }
+          theta[i] = 3 * sum / m[i];
+          alpha[i] = gamma[i] * theta[i];
+        }
+    }
+
+    template <bool damage, bool energy, bool weighted>
+    void
+    force(const ModelState &state, const std::vector<unsigned int> &points) const
+    {
+      const double       *X        = state.cloud.X.data();
+      const double       *V        = state.cloud.volume.data();
+      const double       *u        = state.u;
+      const std::size_t  *offsets  = state.bonds.offsets.data();
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      const std::uint8_t *broken   = state.broken;
+      const double       *w_bond   = omega.data();
+      const double       *alpha    = state.fields.get("lps_alpha").begin();
+      const double       *beta     = state.fields.get("lps_beta").begin();
+      const double       *theta    = state.fields.get("dilatation").begin();
+      double             *f        = state.force;
+      for (const unsigned int i : points)
+        {
+          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
+          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
+          // both owners of a bond see the same length.
+          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
+          const double ai = alpha[i], bi = beta[i];
+          const double third_theta = theta[i] / 3;
+          double       fx = 0, fy = 0, fz = 0, Wd = 0;
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              const unsigned int j  = neighbor[b];
+              const double       ex = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
+              const double       dx = (X[3 * j] + u[3 * j]) - pi;
+              const double       dy = (X[3 * j + 1] + u[3 * j + 1]) - qi;
+              const double       dz = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+              const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
+              const double       e  = r - r0;
+              double             w  = weighted ? w_bond[b] : omega0;
+              if (damage)
+                w *= 1.0 - broken[b];
+              const double t = w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e);
+              const double k = t * V[j] / r;
+              fx += k * dx;
+              fy += k * dy;
+              fz += k * dz;
+              if (energy)
+                {
+                  const double ed = e - third_theta * r0;
+                  Wd += w * ed * ed * V[j];
+                }
+            }
+          f[3 * i] += fx;
+          f[3 * i + 1] += fy;
+          f[3 * i + 2] += fz;
+          if (energy)
+            state.energy[i] += 0.5 * K * theta[i] * theta[i] + 0.5 * bi * Wd;
+        }
+    }
+  };
+
+  PERIDEAL_REGISTER(Material, LPS, "LPS",
+                    "Linear peridynamic solid, state based (Peridigm's 'Elastic'). "
+                    "Keys: Density, Bulk modulus, Shear modulus, Influence function.")
+} // namespace perideal

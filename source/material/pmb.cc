@@ -1,0 +1,200 @@
+// Prototype microelastic brittle material (bond based; Peridigm's "Elastic
+// Bond Based"). Pairwise force density on point i from bond i-j:
+//   f = c s (1 - d) V_j M,   s = (|y_j - y_i| - |xi|) / |xi|,
+//   c = 18 K / (pi delta^4),  M = (y_j - y_i) / |y_j - y_i|.
+// Poisson's ratio is 1/4 by construction, so G = 3K/5.
+// Across blocks with different micromoduli the bond uses (c_i + c_j)/2, so
+// action equals reaction.
+
+#include <perideal/material/material.h>
+
+#include <cmath>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  class PMB : public Material
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
+      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
+    }
+
+    void
+    parse_parameters(ParameterHandler &prm, const std::string &path) override
+    {
+      rho = prm.get_double("Density");
+      K   = prm.get_double("Bulk modulus");
+      require_positive(rho, path + "/Density");
+      require_positive(K, path + "/Bulk modulus");
+    }
+
+    double
+    density() const override
+    {
+      return rho;
+    }
+    double
+    bulk_modulus() const override
+    {
+      return K;
+    }
+    double
+    shear_modulus() const override
+    {
+      return 0.6 * K;
+    }
+
+    double
+    micromodulus() const
+    {
+      return 18 * K / (M_PI * std::pow(horizon, 4));
+    }
+
+    void
+    initialize(const ModelState &state, const std::vector<unsigned int> &points) override
+    {
+      VectorType &c = state.fields.get("pmb_micromodulus");
+      for (const unsigned int i : points)
+        c.local_element(i) = micromodulus();
+    }
+
+    std::vector<std::string>
+    constant_fields() const override
+    {
+      return {"pmb_micromodulus"};
+    }
+
+    void
+    compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
+    {
+      const VectorType &c_field = state.fields.get("pmb_micromodulus");
+      // One micromodulus in the whole family (the common case): the plain loop.
+      const bool uniform = uniform_neighborhood(state, points, c_field);
+      const bool damage  = state.broken != nullptr;
+      const bool energy  = state.energy != nullptr;
+      // Compile-time variants keep the bond loop free of branches.
+      if (uniform)
+        {
+          if (damage)
+            energy ? kernel<true, true, true>(state, points, c_field) :
+                     kernel<true, true, false>(state, points, c_field);
+          else
+            energy ? kernel<true, false, true>(state, points, c_field) :
+                     kernel<true, false, false>(state, points, c_field);
+        }
+      else
+        {
+          if (damage)
+            energy ? kernel<false, true, true>(state, points, c_field) :
+                     kernel<false, true, false>(state, points, c_field);
+          else
+            energy ? kernel<false, false, true>(state, points, c_field) :
+                     kernel<false, false, false>(state, points, c_field);
+        }
+    }
+
+    double
+    stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
+    {
+      // Silling-Askari: dt_i = sqrt(2 rho / sum_j V_j c_ij / |xi_ij|), the
+      // Gershgorin bound of the bond-based tangent.
+      const VectorType &c  = state.fields.get("pmb_micromodulus");
+      const double     *X  = state.cloud.X.data();
+      const double     *V  = state.cloud.volume.data();
+      double            dt = std::numeric_limits<double>::max();
+      for (const unsigned int i : points)
+        {
+          double sum = 0;
+          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+            {
+              const unsigned int j  = state.bonds.neighbor[b];
+              const double       dx = X[3 * j] - X[3 * i], dy = X[3 * j + 1] - X[3 * i + 1],
+                           dz = X[3 * j + 2] - X[3 * i + 2];
+              sum += V[j] * 0.5 * (c.local_element(i) + c.local_element(j)) /
+                     std::sqrt(dx * dx + dy * dy + dz * dz);
+            }
+          if (sum > 0)
+            dt = std::min(dt, std::sqrt(2 * rho / sum));
+        }
+      return dt;
+    }
+
+  private:
+    double rho = 0, K = 0;
+
+    bool
+    uniform_neighborhood(const ModelState                &state,
+                         const std::vector<unsigned int> &points,
+                         const VectorType                &c) const
+    {
+      // Decided once: the field is constant after set-up.
+      if (uniform_known)
+        return uniform;
+      uniform = true;
+      for (const unsigned int i : points)
+        for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+          if (c.local_element(state.bonds.neighbor[b]) != micromodulus())
+            uniform = false;
+      uniform_known = true;
+      return uniform;
+    }
+    mutable bool uniform = true, uniform_known = false;
+
+    template <bool uniform_c, bool damage, bool energy>
+    void
+    kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
+    {
+      const double       *X        = state.cloud.X.data();
+      const double       *V        = state.cloud.volume.data();
+      const double       *u        = state.u;
+      const std::size_t  *offsets  = state.bonds.offsets.data();
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      const std::uint8_t *broken   = state.broken;
+      const double       *c        = c_field.begin();
+      const double        c_own    = micromodulus();
+      double             *f        = state.force;
+
+      for (const unsigned int i : points)
+        {
+          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
+          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
+          // both owners of a bond see the same length.
+          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
+          double       fx = 0, fy = 0, fz = 0, w = 0;
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              const unsigned int j   = neighbor[b];
+              const double       ex  = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
+              const double       dx  = (X[3 * j] + u[3 * j]) - pi;
+              const double       dy  = (X[3 * j + 1] + u[3 * j + 1]) - qi;
+              const double       dz  = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const double       r0  = std::sqrt(ex * ex + ey * ey + ez * ez);
+              const double       r   = std::sqrt(dx * dx + dy * dy + dz * dz);
+              const double       s   = (r - r0) / r0;
+              const double       cij = uniform_c ? c_own : 0.5 * (c[i] + c[j]);
+              const double       intact = damage ? 1.0 - broken[b] : 1.0;
+              const double       k      = intact * cij * s * V[j] / r;
+              fx += k * dx;
+              fy += k * dy;
+              fz += k * dz;
+              if (energy)
+                w += intact * 0.25 * cij * s * s * r0 * V[j];
+            }
+          f[3 * i] += fx;
+          f[3 * i + 1] += fy;
+          f[3 * i + 2] += fz;
+          if (energy)
+            state.energy[i] += w;
+        }
+    }
+  };
+
+  PERIDEAL_REGISTER(Material, PMB, "PMB",
+                    "Prototype microelastic brittle, bond based (Peridigm's 'Elastic "
+                    "Bond Based'). Keys: Density, Bulk modulus.")
+} // namespace perideal

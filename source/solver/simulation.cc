@@ -1,0 +1,1119 @@
+#include <perideal/base/memory.h>
+#include <perideal/solver/simulation.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/fe/fe_dgq.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    std::string
+    format_seconds(const double s)
+    {
+      std::ostringstream o;
+      if (s < 60)
+        o << std::fixed << std::setprecision(1) << s << " s";
+      else if (s < 3600)
+        o << int(s) / 60 << " min " << int(s) % 60 << " s";
+      else
+        o << int(s) / 3600 << " h " << (int(s) % 3600) / 60 << " min";
+      return o.str();
+    }
+
+    std::string
+    sci(const double v, const unsigned int digits = 4)
+    {
+      std::ostringstream o;
+      o << std::setprecision(digits) << v;
+      return o.str();
+    }
+
+    std::string
+    mib(const double bytes)
+    {
+      std::ostringstream o;
+      o << std::fixed << std::setprecision(1) << bytes / 1048576.0 << " MiB";
+      return o.str();
+    }
+
+    const std::vector<std::string> solver_types = {"Verlet"};
+  } // namespace
+
+  // ---------------------------------------------------------------- parameters
+
+  void
+  declare_parameters(ParameterHandler &prm, const DeckNames &names)
+  {
+    prm.enter_subsection("Discretization");
+    Scene::declare_parameters(prm);
+    prm.enter_subsection("Regions");
+    declare_names_entry(prm, "regions (Peridigm's node sets); 'All' is always defined");
+    for (const auto &name : names.regions)
+      {
+        prm.enter_subsection(name);
+        Region::declare_parameters(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+    prm.leave_subsection();
+
+    prm.enter_subsection("Materials");
+    declare_names_entry(prm, "materials");
+    for (const auto &[name, model] : names.materials)
+      {
+        prm.enter_subsection(name);
+        declare_material_model_entry(prm);
+        if (!model.empty())
+          Registry<Material>::instance().get(model, "Materials/" + name + "/Model").declare(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Damage models");
+    declare_names_entry(prm, "damage models");
+    for (const auto &[name, model] : names.damage_models)
+      {
+        prm.enter_subsection(name);
+        declare_damage_model_entry(prm);
+        if (!model.empty())
+          Registry<DamageModel>::instance().get(model, "Damage models/" + name + "/Model").declare(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Blocks");
+    declare_names_entry(prm, "blocks; a cell belongs to the first block that claims it");
+    for (const auto &name : names.blocks)
+      {
+        prm.enter_subsection(name);
+        prm.declare_entry("Material", "", Patterns::Anything(), "Name of a material of Materials/Names.");
+        prm.declare_entry("Damage model", "", Patterns::Anything(), "Name of a damage model of Damage models/Names; empty: no damage.");
+        prm.declare_entry("Material ids", "0", Patterns::List(Patterns::Integer(0)), "The cells of the mesh with these material ids (Gmsh volume physical groups) form the block.");
+        prm.declare_entry("Region", "", Patterns::Anything(), "If set, the cells whose centroid lies in this region form the block instead.");
+        prm.declare_entry("Horizon", "0", Patterns::Double(0), "The block's horizon; 0: Discretization/Horizon.");
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary conditions");
+    declare_names_entry(prm, "initial and boundary conditions");
+    for (const auto &name : names.conditions)
+      {
+        prm.enter_subsection(name);
+        BoundaryCondition::declare_parameters(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Solver");
+    prm.declare_entry("Type", "Verlet", Patterns::Selection("Verlet"), "Explicit velocity-Verlet with lumped mass.");
+    prm.declare_entry("Initial time", "0", Patterns::Double(), "Start time.");
+    prm.declare_entry("Final time", "0", Patterns::Double(), "End time. The number of steps is ceil((final - initial)/dt), and dt is then shortened to land on the final time exactly.");
+    prm.declare_entry("Number of steps", "0", Patterns::Integer(0), "If positive: run exactly this many steps of dt and ignore Final time.");
+    prm.declare_entry("Energy growth limit", "10", Patterns::Double(1),
+                      "Stop when the kinetic energy exceeds this factor times (initial kinetic + "
+                      "strain energy + work of external forces): the run is unstable.");
+    prm.enter_subsection("Verlet");
+    prm.declare_entry("Fixed dt", "0", Patterns::Double(0), "Time step; 0: Safety factor times the smallest stable estimate over all points.");
+    prm.declare_entry("Safety factor", "0.8", Patterns::Double(0, 1), "Fraction of the stable time step used when Fixed dt is 0.");
+    prm.leave_subsection();
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    OutputWriter::declare_parameters(prm);
+    prm.leave_subsection();
+  }
+
+  void
+  print_parameter_reference(std::ostream &out, const bool markdown)
+  {
+    DeckNames names;
+    names.regions       = {"My region"};
+    names.blocks        = {"My block"};
+    names.conditions    = {"My condition"};
+    for (const auto &m : Registry<Material>::instance().all())
+      names.materials["My " + m.first + " material"] = m.first;
+    for (const auto &m : Registry<DamageModel>::instance().all())
+      names.damage_models["My " + m.first + " model"] = m.first;
+    ParameterHandler prm;
+    declare_parameters(prm, names);
+    auto set_names = [&](const std::vector<std::string> &path, const std::string &list) {
+      for (const auto &p : path)
+        prm.enter_subsection(p);
+      prm.set("Names", list);
+      for (unsigned int i = 0; i < path.size(); ++i)
+        prm.leave_subsection();
+    };
+    auto join = [](const auto &map) {
+      std::string s;
+      for (const auto &e : map)
+        s += (s.empty() ? "" : ", ") + e.first;
+      return s;
+    };
+    set_names({"Discretization", "Regions"}, "My region");
+    set_names({"Materials"}, join(names.materials));
+    set_names({"Damage models"}, join(names.damage_models));
+    set_names({"Blocks"}, "My block");
+    set_names({"Boundary conditions"}, "My condition");
+    for (const auto &[name, model] : names.materials)
+      {
+        prm.enter_subsection("Materials");
+        prm.enter_subsection(name);
+        prm.set("Model", model);
+        prm.leave_subsection();
+        prm.leave_subsection();
+      }
+    for (const auto &[name, model] : names.damage_models)
+      {
+        prm.enter_subsection("Damage models");
+        prm.enter_subsection(name);
+        prm.set("Model", model);
+        prm.leave_subsection();
+        prm.leave_subsection();
+      }
+
+    if (markdown)
+      {
+        out << "# Parameter reference\n\n"
+            << "Generated by `pd_app --print-parameters-markdown` at build time; do not edit.\n\n"
+            << "A parameter file is a deal.II ParameterHandler file. Sections that hold\n"
+            << "user-named entries (regions, materials, damage models, blocks, boundary\n"
+            << "conditions) list the names in `Names`; each name then has a subsection.\n"
+            << "A material or damage model subsection holds `Model` and that model's keys.\n"
+            << "Below, every model appears once under an example name.\n\n"
+            << "Models: materials " << Registry<Material>::instance().names(", ")
+            << "; damage models " << Registry<DamageModel>::instance().names(", ") << ".\n\n";
+        for (const auto &m : Registry<Material>::instance().all())
+          out << "- material `" << m.first << "`: " << m.second.documentation << "\n";
+        for (const auto &m : Registry<DamageModel>::instance().all())
+          out << "- damage model `" << m.first << "`: " << m.second.documentation << "\n";
+        out << "\n```\n";
+      }
+    prm.print_parameters(out, ParameterHandler::PRM);
+    if (markdown)
+      out << "```\n";
+  }
+
+  Simulation::Simulation(const std::string &parameter_file, const MPI_Comm comm_)
+    : comm(comm_)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(comm_) == 0)
+    , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
+    , triangulation(comm_)
+    , fe(FE_DGQ<dim>(0), dim)
+    , dof_handler(triangulation)
+  {
+    read_parameters(parameter_file);
+  }
+
+  void
+  Simulation::read_parameters(const std::string &file)
+  {
+    DeckNames names;
+    auto      read_list = [&](ParameterHandler &prm, const std::vector<std::string> &path) {
+      for (const auto &p : path)
+        prm.enter_subsection(p);
+      std::string where;
+      for (const auto &p : path)
+        where += p + "/";
+      auto list = split_names(prm.get("Names"), where + "Names");
+      for (unsigned int i = 0; i < path.size(); ++i)
+        prm.leave_subsection();
+      return list;
+    };
+    // Pass 1: the names.
+    {
+      ParameterHandler prm;
+      declare_parameters(prm, names);
+      parse_input_file(prm, file, false);
+      names.regions    = read_list(prm, {"Discretization", "Regions"});
+      names.blocks     = read_list(prm, {"Blocks"});
+      names.conditions = read_list(prm, {"Boundary conditions"});
+      for (const auto &n : read_list(prm, {"Materials"}))
+        names.materials[n] = "";
+      for (const auto &n : read_list(prm, {"Damage models"}))
+        names.damage_models[n] = "";
+      for (const auto &r : names.regions)
+        AssertThrow(r != "All", ExcMessage("Discretization/Regions/Names: 'All' is predefined; choose another name"));
+    }
+    // Pass 2: the model of each material and damage model.
+    {
+      ParameterHandler prm;
+      declare_parameters(prm, names);
+      parse_input_file(prm, file, false);
+      for (auto &[section, map] : std::vector<std::pair<std::string, std::map<std::string, std::string> *>>{
+             {"Materials", &names.materials}, {"Damage models", &names.damage_models}})
+        {
+          prm.enter_subsection(section);
+          for (auto &entry : *map)
+            {
+              prm.enter_subsection(entry.first);
+              entry.second = Utilities::trim(prm.get("Model"));
+              AssertThrow(!entry.second.empty(),
+                          ExcMessage(section + "/" + entry.first + "/Model is not set"));
+              prm.leave_subsection();
+            }
+          prm.leave_subsection();
+        }
+      for (const auto &[name, model] : names.materials)
+        Registry<Material>::instance().get(model, "Materials/" + name + "/Model");
+      for (const auto &[name, model] : names.damage_models)
+        Registry<DamageModel>::instance().get(model, "Damage models/" + name + "/Model");
+    }
+    // Pass 3: everything, strictly.
+    ParameterHandler prm;
+    declare_parameters(prm, names);
+    parse_input_file(prm, file, true);
+
+    prm.enter_subsection("Discretization");
+    scene.parse_parameters(prm);
+    prm.enter_subsection("Regions");
+    for (const auto &name : names.regions)
+      {
+        prm.enter_subsection(name);
+        auto region  = std::make_unique<Region>();
+        region->name = name;
+        region->parse_parameters(prm, "Discretization/Regions/" + name);
+        regions[name] = std::move(region);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+    prm.leave_subsection();
+
+    AssertThrow(!names.blocks.empty(),
+                ExcMessage("Blocks/Names is empty: define at least one block"));
+    prm.enter_subsection("Blocks");
+    for (const auto &name : names.blocks)
+      {
+        const std::string path = "Blocks/" + name;
+        prm.enter_subsection(name);
+        Block block;
+        block.name          = name;
+        block.material_name = Utilities::trim(prm.get("Material"));
+        block.damage_name   = Utilities::trim(prm.get("Damage model"));
+        block.region        = Utilities::trim(prm.get("Region"));
+        block.horizon       = prm.get_double("Horizon");
+        for (const int id : Utilities::string_to_int(Utilities::split_string_list(prm.get("Material ids"), ',')))
+          block.material_ids.push_back(id);
+        prm.leave_subsection();
+
+        AssertThrow(!block.material_name.empty(), ExcMessage(path + "/Material is not set"));
+        AssertThrow(names.materials.count(block.material_name),
+                    ExcMessage(path + "/Material: '" + block.material_name +
+                               "' is not defined in Materials/Names"));
+        AssertThrow(block.damage_name.empty() || names.damage_models.count(block.damage_name),
+                    ExcMessage(path + "/Damage model: '" + block.damage_name +
+                               "' is not defined in Damage models/Names"));
+        AssertThrow(block.region.empty() || block.region == "All" || regions.count(block.region),
+                    ExcMessage(path + "/Region: '" + block.region +
+                               "' is not defined in Discretization/Regions/Names"));
+        if (block.horizon == 0)
+          block.horizon = scene.horizon;
+        AssertThrow(block.horizon > 0,
+                    ExcMessage(path + "/Horizon and Discretization/Horizon are both 0: "
+                                      "set a positive horizon"));
+        blocks.push_back(std::move(block));
+      }
+    prm.leave_subsection();
+
+    // One material (and damage model) instance per block: the horizon differs.
+    for (auto &block : blocks)
+      {
+        const std::string model = names.materials.at(block.material_name);
+        prm.enter_subsection("Materials");
+        prm.enter_subsection(block.material_name);
+        block.material = Registry<Material>::instance().get(model, "").create();
+        block.material->parse_parameters(prm, "Materials/" + block.material_name);
+        prm.leave_subsection();
+        prm.leave_subsection();
+        if (!block.damage_name.empty())
+          {
+            prm.enter_subsection("Damage models");
+            prm.enter_subsection(block.damage_name);
+            block.damage = Registry<DamageModel>::instance()
+                             .get(names.damage_models.at(block.damage_name), "")
+                             .create();
+            block.damage->parse_parameters(prm, "Damage models/" + block.damage_name);
+            prm.leave_subsection();
+            prm.leave_subsection();
+          }
+      }
+    // Materials declared but not used are still parsed, so their errors show.
+    prm.enter_subsection("Materials");
+    for (const auto &[name, model] : names.materials)
+      {
+        prm.enter_subsection(name);
+        Registry<Material>::instance().get(model, "").create()->parse_parameters(prm, "Materials/" + name);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary conditions");
+    for (const auto &name : names.conditions)
+      {
+        const std::string path = "Boundary conditions/" + name;
+        prm.enter_subsection(name);
+        BoundaryCondition bc;
+        bc.name = name;
+        bc.parse_parameters(prm, path);
+        AssertThrow(bc.region == "All" || regions.count(bc.region),
+                    ExcMessage(path + "/Region: '" + bc.region +
+                               "' is not defined in Discretization/Regions/Names"));
+        conditions.push_back(std::move(bc));
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Solver");
+    initial_time        = prm.get_double("Initial time");
+    final_time          = prm.get_double("Final time");
+    requested_steps     = prm.get_integer("Number of steps");
+    energy_growth_limit = prm.get_double("Energy growth limit");
+    prm.enter_subsection("Verlet");
+    fixed_dt      = prm.get_double("Fixed dt");
+    safety_factor = prm.get_double("Safety factor");
+    prm.leave_subsection();
+    prm.leave_subsection();
+    AssertThrow(requested_steps > 0 || final_time > initial_time,
+                ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
+                           "Solver/Number of steps)"));
+    AssertThrow(fixed_dt > 0 || safety_factor > 0,
+                ExcMessage("Solver/Verlet/Safety factor must be positive when Fixed dt is 0"));
+
+    prm.enter_subsection("Output");
+    output.parse_parameters(prm);
+    prm.leave_subsection();
+  }
+
+  // -------------------------------------------------------------------- set-up
+
+  void
+  Simulation::setup()
+  {
+    const auto start = std::chrono::steady_clock::now();
+    {
+      TimerOutput::Scope t(timer, "setup: mesh and points");
+      scene.create_triangulation(triangulation);
+      dof_handler.distribute_dofs(fe);
+
+      auto block_of = [&](const CellIterator &cell) -> int {
+        for (unsigned int b = 0; b < blocks.size(); ++b)
+          {
+            const Block &block = blocks[b];
+            if (!block.region.empty())
+              {
+                if (block.region == "All" || regions.at(block.region)->contains(cell->center(), cell))
+                  return b;
+              }
+            else if (std::find(block.material_ids.begin(), block.material_ids.end(),
+                               cell->material_id()) != block.material_ids.end())
+              return b;
+          }
+        return -1;
+      };
+      double max_horizon = 0;
+      for (const auto &b : blocks)
+        max_horizon = std::max(max_horizon, b.horizon);
+      cloud.build(dof_handler, block_of, max_horizon, comm);
+
+      if (cloud.n_global() == 0)
+        {
+          std::set<unsigned int> ids;
+          for (const auto &cell : triangulation.active_cell_iterators())
+            if (cell->is_locally_owned())
+              ids.insert(cell->material_id());
+          std::string list;
+          for (const auto id : ids)
+            list += (list.empty() ? "" : ", ") + std::to_string(id);
+          AssertThrow(false, ExcMessage("no cell belongs to any block: check Blocks/*/Material ids "
+                                        "or Region (material ids in the mesh on rank 0: " + list + ")"));
+        }
+      unsigned int bad_volume = 0;
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        if (!(cloud.volume[i] > 0))
+          ++bad_volume;
+      bad_volume = Utilities::MPI::sum(bad_volume, comm);
+      AssertThrow(bad_volume == 0,
+                  ExcMessage(std::to_string(bad_volume) + " cells have zero or negative volume: "
+                             "the mesh is degenerate or inverted"));
+    }
+    {
+      TimerOutput::Scope        t(timer, "setup: neighbor search");
+      std::vector<double>       horizon(blocks.size());
+      for (unsigned int b = 0; b < blocks.size(); ++b)
+        horizon[b] = blocks[b].horizon;
+      bonds = find_families(cloud, horizon, comm);
+    }
+
+    // A point without a neighbor cannot carry load: a horizon below the spacing.
+    {
+      unsigned int                 isolated = 0;
+      std::array<double, dim + 1>  first{{0, 0, 0, 0}};
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        if (bonds.offsets[i + 1] == bonds.offsets[i])
+          {
+            if (isolated++ == 0)
+              first = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2], double(cloud.block[i])}};
+          }
+      const unsigned int total = Utilities::MPI::sum(isolated, comm);
+      if (total > 0)
+        {
+          // Report the first rank's first isolated point.
+          const unsigned int rank  = Utilities::MPI::this_mpi_process(comm);
+          const unsigned int owner = Utilities::MPI::min(isolated > 0 ? rank : numbers::invalid_unsigned_int, comm);
+          std::array<double, dim + 1> p = rank == owner ? first : std::array<double, dim + 1>{{0, 0, 0, 0}};
+          Utilities::MPI::sum(ArrayView<const double>(p.data(), p.size()), comm,
+                              ArrayView<double>(p.data(), p.size()));
+          const Block &block = blocks[static_cast<unsigned int>(p[3])];
+          AssertThrow(false,
+                      ExcMessage(std::to_string(total) + " points have no neighbor within the horizon, "
+                                 "the first at (" + sci(p[0]) + ", " + sci(p[1]) + ", " + sci(p[2]) +
+                                 ") in block '" + block.name + "' with horizon " + sci(block.horizon) +
+                                 ": the horizon must exceed the point spacing (Blocks/" + block.name +
+                                 "/Horizon or Discretization/Horizon)"));
+        }
+    }
+
+    for (auto &block : blocks)
+      block.points.clear();
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      blocks[cloud.block[i]].points.push_back(i);
+
+    // Bonds between blocks of different models cannot be evaluated by either.
+    {
+      std::vector<std::string> model(blocks.size());
+      for (unsigned int b = 0; b < blocks.size(); ++b)
+        model[b] = typeid(*blocks[b].material).name();
+      bool mixed = false, mixed_damage = false;
+      std::pair<unsigned int, unsigned int> pair{0, 0};
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+          {
+            const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
+            if (bi != bj && model[bi] != model[bj])
+              mixed = true, pair = {bi, bj};
+            if (bi != bj && blocks[bi].damage_name != blocks[bj].damage_name)
+              mixed_damage = true;
+          }
+      const unsigned int any = Utilities::MPI::max(mixed ? 1u : 0u, comm);
+      AssertThrow(any == 0,
+                  ExcMessage("blocks '" + blocks[pair.first].name + "' and '" + blocks[pair.second].name +
+                             "' (or others) are within a horizon of each other but use different "
+                             "material models; bonds between models are not defined: use the same "
+                             "model with different parameters, or separate the blocks by more than "
+                             "a horizon"));
+      if (Utilities::MPI::max(mixed_damage ? 1u : 0u, comm))
+        warnings.push_back("bonds join blocks with different damage models; each half of such a "
+                           "bond is decided by its own block's model");
+    }
+
+    bool any_damage = false;
+    for (const auto &b : blocks)
+      any_damage |= b.damage != nullptr;
+    if (any_damage)
+      broken.assign(bonds.n_bonds(), 0);
+
+    fields = std::make_unique<FieldStore>(cloud);
+    displacement.reinit(cloud.vector_partitioner);
+    velocity.reinit(cloud.vector_partitioner);
+    force.reinit(cloud.vector_partitioner);
+    mass_density.resize(cloud.n_owned());
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      mass_density[i] = blocks[cloud.block[i]].material->density();
+
+    ModelState state{cloud, bonds, nullptr, displacement.begin(), force.begin(), nullptr, *fields};
+    std::set<std::string> constant, stage;
+    for (unsigned int b = 0; b < blocks.size(); ++b)
+      {
+        blocks[b].material->set_block(b, blocks[b].horizon);
+        blocks[b].material->initialize(state, blocks[b].points);
+        if (blocks[b].damage)
+          blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
+        for (const auto &f : blocks[b].material->constant_fields())
+          constant.insert(f);
+        for (const auto &f : blocks[b].material->stage_fields())
+          stage.insert(f);
+      }
+    for (const auto &f : constant)
+      fields->get(f).update_ghost_values();
+    for (const auto &f : stage)
+      fields->get(f); // allocate before the loop: no allocation per step
+    ghosted_stage_fields.assign(stage.begin(), stage.end());
+
+    // Conditions: their points, the constraints, the body force.
+    for (auto &bc : conditions)
+      {
+        bc.points.clear();
+        for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+          if (bc.region == "All" || regions.at(bc.region)->contains(cloud.position(i), cloud.cell[i]))
+            bc.points.push_back(i);
+        if (Utilities::MPI::sum(bc.points.size(), comm) == 0)
+          warnings.push_back("boundary condition '" + bc.name + "' acts on no point (region '" +
+                             bc.region + "' is empty)");
+      }
+    constraints.clear();
+    {
+      // A later condition on the same component of the same point wins.
+      std::map<std::pair<unsigned int, unsigned int>, unsigned int> owner;
+      for (unsigned int c = 0; c < conditions.size(); ++c)
+        if (conditions[c].is_prescribed())
+          for (const unsigned int i : conditions[c].points)
+            owner[{i, conditions[c].component}] = c;
+      for (const auto &[key, c] : owner)
+        constraints.push_back({key.first, key.second, c});
+      constraint_force.assign(constraints.size(), 0.0);
+    }
+    body_force.clear();
+    body_force_depends_on_time = false;
+    for (const auto &bc : conditions)
+      if (bc.type == BoundaryCondition::Type::body_force)
+        {
+          body_force.resize(dim * cloud.n_owned(), 0.0);
+          body_force_depends_on_time |= bc.value->depends_on_time();
+        }
+
+    dt_stable = stable_time_step();
+    dt        = fixed_dt > 0 ? fixed_dt : safety_factor * dt_stable;
+    if (fixed_dt > dt_stable)
+      warnings.push_back("Fixed dt " + sci(fixed_dt) + " exceeds the stable estimate " +
+                         sci(dt_stable) + " (" + sci(fixed_dt / dt_stable, 3) +
+                         " times): the run may become unstable");
+
+    setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  double
+  Simulation::stable_time_step()
+  {
+    ModelState state{cloud, bonds, nullptr, displacement.begin(), force.begin(), nullptr, *fields};
+    double     local = std::numeric_limits<double>::max();
+    for (const auto &b : blocks)
+      if (!b.points.empty())
+        local = std::min(local, b.material->stable_time_step(state, b.points));
+    return Utilities::MPI::min(local, comm);
+  }
+
+  // ------------------------------------------------------------------- physics
+
+  void
+  Simulation::compute_forces(const bool with_energy)
+  {
+    const unsigned int n = cloud.n_owned();
+    std::fill(force.begin(), force.begin() + dim * n, 0.0);
+    if (with_energy)
+      energy_density.assign(n, 0.0);
+    ModelState state{cloud,
+                     bonds,
+                     broken.empty() ? nullptr : broken.data(),
+                     displacement.begin(),
+                     force.begin(),
+                     with_energy ? energy_density.data() : nullptr,
+                     *fields};
+    if (!broken.empty())
+      {
+        TimerOutput::Scope t(timer, "damage");
+        for (const auto &b : blocks)
+          if (b.damage)
+            broken_bond_count += b.damage->update(state, b.points, broken.data());
+      }
+    {
+      TimerOutput::Scope t(timer, "force");
+      for (const auto &b : blocks)
+        b.material->compute_stage(state, b.points);
+    }
+    if (!ghosted_stage_fields.empty())
+      {
+        TimerOutput::Scope t(timer, "ghost exchange");
+        for (const auto &f : ghosted_stage_fields)
+          fields->get(f).update_ghost_values();
+      }
+    {
+      TimerOutput::Scope t(timer, "force");
+      for (const auto &b : blocks)
+        b.material->compute_force(state, b.points);
+    }
+    if (!body_force.empty())
+      for (unsigned int k = 0; k < dim * n; ++k)
+        force.local_element(k) += body_force[k];
+  }
+
+  void
+  Simulation::apply_initial_conditions()
+  {
+    displacement = 0;
+    velocity     = 0;
+    for (const auto &bc : conditions)
+      if (bc.is_initial() || bc.is_prescribed())
+        {
+          VectorType &target = (bc.type == BoundaryCondition::Type::initial_velocity ||
+                                bc.type == BoundaryCondition::Type::prescribed_velocity) ?
+                                 velocity :
+                                 displacement;
+          for (const unsigned int i : bc.points)
+            target.local_element(dim * i + bc.component) =
+              bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
+        }
+    if (!body_force.empty())
+      {
+        std::fill(body_force.begin(), body_force.end(), 0.0);
+        for (const auto &bc : conditions)
+          if (bc.type == BoundaryCondition::Type::body_force)
+            for (const unsigned int i : bc.points)
+              body_force[dim * i + bc.component] +=
+                bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
+      }
+  }
+
+  void
+  Simulation::apply_prescribed(const double time, const double step_dt)
+  {
+    for (unsigned int k = 0; k < constraints.size(); ++k)
+      {
+        const Constraint        &c  = constraints[k];
+        const BoundaryCondition &bc = conditions[c.condition];
+        const Point<dim>         x  = cloud.position(c.point);
+        const std::uint64_t      h  = cloud.hash(c.point);
+        const unsigned int       e  = dim * c.point + c.component;
+        if (bc.type == BoundaryCondition::Type::prescribed_displacement)
+          {
+            const double now = bc.value->value(x, time, h);
+            velocity.local_element(e) = (now - bc.value->value(x, time - step_dt, h)) / step_dt;
+            displacement.local_element(e) = now;
+          }
+        else
+          {
+            displacement.local_element(e) += step_dt * bc.value->value(x, time - 0.5 * step_dt, h);
+            velocity.local_element(e) = bc.value->value(x, time, h);
+          }
+      }
+  }
+
+  // -------------------------------------------------------------------- output
+
+  std::vector<std::pair<std::string, double>>
+  Simulation::global_quantities(const unsigned int step, const double time)
+  {
+    const unsigned int n  = cloud.n_owned();
+    double             ke = 0, se = 0, max_damage = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const double *v = velocity.begin() + dim * i;
+        ke += 0.5 * mass_density[i] * cloud.volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        se += energy_density[i] * cloud.volume[i];
+      }
+    std::size_t broken_local = 0;
+    if (!broken.empty())
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          double all = 0, intact = 0;
+          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+            {
+              const double V = cloud.volume[bonds.neighbor[b]];
+              all += V;
+              intact += broken[b] ? 0 : V;
+              broken_local += broken[b];
+            }
+          max_damage = std::max(max_damage, 1 - intact / all);
+        }
+    ke                  = Utilities::MPI::sum(ke, comm);
+    se                  = Utilities::MPI::sum(se, comm);
+    last_kinetic_energy = ke;
+    last_strain_energy  = se;
+    max_damage         = Utilities::MPI::max(max_damage, comm);
+    const double broken_bonds = Utilities::MPI::sum(double(broken_local), comm) / 2;
+    return {{"step", step},
+            {"time", time},
+            {"kinetic_energy", ke},
+            {"strain_energy", se},
+            {"external_work", external_work},
+            {"broken_bonds", broken_bonds},
+            {"max_damage", max_damage}};
+  }
+
+  void
+  Simulation::write_output(const unsigned int step, const double time)
+  {
+    TimerOutput::Scope t(timer, "output");
+    const auto         row = global_quantities(step, time);
+    output.write_globals(row, comm);
+
+    const unsigned int n = cloud.n_owned();
+    std::vector<std::unique_ptr<Vector<double>>> cell_storage;
+    std::vector<OutputWriter::CellField>         cell_fields;
+    auto cell_field = [&](const std::string &name, const std::function<double(unsigned int)> &value) {
+      if (!output.wants(name))
+        return;
+      cell_storage.push_back(std::make_unique<Vector<double>>(triangulation.n_active_cells()));
+      for (unsigned int i = 0; i < n; ++i)
+        (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = value(i);
+      cell_fields.emplace_back(name, cell_storage.back().get());
+    };
+    cell_field("Damage", [&](unsigned int i) {
+      if (broken.empty())
+        return 0.0;
+      double all = 0, intact = 0;
+      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+        {
+          const double V = cloud.volume[bonds.neighbor[b]];
+          all += V;
+          intact += broken[b] ? 0 : V;
+        }
+      return 1 - intact / all;
+    });
+    auto field_or_zero = [&](const std::string &field) {
+      return [this, field](unsigned int i) {
+        return fields->has(field) ? fields->get(field).local_element(i) : 0.0;
+      };
+    };
+    cell_field("Dilatation", field_or_zero("dilatation"));
+    cell_field("Weighted volume", field_or_zero("weighted_volume"));
+    cell_field("Number of neighbors", [&](unsigned int i) { return double(bonds.offsets[i + 1] - bonds.offsets[i]); });
+    cell_field("Block", [&](unsigned int i) { return double(cloud.block[i]); });
+    const double rank = Utilities::MPI::this_mpi_process(comm);
+    cell_field("Rank", [&](unsigned int) { return rank; });
+
+    std::vector<std::unique_ptr<VectorType>> vector_storage;
+    std::vector<OutputWriter::VectorField>   vector_fields;
+    std::vector<types::global_dof_index>     dofs(fe.n_dofs_per_cell());
+    auto vector_field = [&](const std::string &name, const std::function<double(unsigned int)> &value) {
+      if (!output.wants(name))
+        return;
+      vector_storage.push_back(std::make_unique<VectorType>(dof_handler.locally_owned_dofs(), comm));
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          cloud.cell[i]->get_dof_indices(dofs);
+          for (unsigned int d = 0; d < dim; ++d)
+            (*vector_storage.back())(dofs[d]) = value(dim * i + d);
+        }
+      vector_fields.emplace_back(name, vector_storage.back().get());
+    };
+    vector_field("Displacement", [&](unsigned int k) { return displacement.local_element(k); });
+    vector_field("Velocity", [&](unsigned int k) { return velocity.local_element(k); });
+    vector_field("Force density", [&](unsigned int k) { return force.local_element(k); });
+    vector_field("Acceleration", [&](unsigned int k) { return force.local_element(k) / mass_density[k / dim]; });
+
+    output.write_fields(dof_handler, cell_fields, vector_fields, step, time, comm);
+  }
+
+  // ---------------------------------------------------------------- reporting
+
+  void
+  Simulation::print_setup_report()
+  {
+    const double bonds_global = Utilities::MPI::sum(double(bonds.n_bonds()), comm);
+    std::size_t  min_family = std::numeric_limits<std::size_t>::max(), max_family = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        const std::size_t s = bonds.offsets[i + 1] - bonds.offsets[i];
+        min_family          = std::min(min_family, s);
+        max_family          = std::max(max_family, s);
+      }
+    min_family = Utilities::MPI::min(min_family, comm);
+    max_family = Utilities::MPI::max(max_family, comm);
+    const double ghosts = Utilities::MPI::sum(double(cloud.n_local() - cloud.n_owned()), comm);
+
+    // What this run holds, by part (all ranks).
+    const double bond_bytes = bonds.neighbor.capacity() * sizeof(unsigned int) +
+                              bonds.offsets.capacity() * sizeof(std::size_t) + broken.capacity();
+    const double point_bytes =
+      cloud.X.capacity() * sizeof(double) + cloud.volume.capacity() * sizeof(double) +
+      cloud.block.capacity() * sizeof(unsigned short) + cloud.key.capacity() * sizeof(PointKey) +
+      cloud.gid.capacity() * sizeof(types::global_dof_index) + cloud.cell.capacity() * sizeof(CellIterator) +
+      displacement.memory_consumption() + velocity.memory_consumption() + force.memory_consumption() +
+      fields->memory_consumption() + mass_density.capacity() * sizeof(double);
+    const double mesh_bytes = triangulation.memory_consumption() + dof_handler.memory_consumption();
+    const double sum_bond   = Utilities::MPI::sum(bond_bytes, comm);
+    const double sum_point  = Utilities::MPI::sum(point_bytes, comm);
+    const double sum_mesh   = Utilities::MPI::sum(mesh_bytes, comm);
+
+    pcout << "PeriDeal set-up on " << Utilities::MPI::n_mpi_processes(comm) << " rank(s)\n"
+          << "  points:            " << cloud.n_global() << " (nonlocal ghosts: " << ghosts << ")\n"
+          << "  bonds:             " << std::setprecision(12) << bonds_global
+          << " (directed; family size " << min_family << " to " << max_family << ")\n";
+    for (const auto &b : blocks)
+      pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
+            << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)
+            << (b.damage ? ", damage: " + b.damage->describe() : std::string(", no damage")) << "\n";
+    pcout << "  memory estimate:   bonds " << mib(sum_bond) << ", point fields " << mib(sum_point)
+          << ", mesh and DoFs " << mib(sum_mesh) << "; total " << mib(sum_bond + sum_point + sum_mesh)
+          << " (" << sci((sum_bond + sum_point + sum_mesh) / std::max(1.0, bonds_global), 3)
+          << " bytes per bond)\n"
+          << "  stable time step:  " << sci(dt_stable, 6) << " (smallest over all points)\n"
+          << "  time step:         " << sci(dt, 6)
+          << (fixed_dt > 0 ? " (fixed)" : " (safety factor " + sci(safety_factor, 3) + ")") << "\n";
+    for (const auto &w : warnings)
+      pcout << "Warning: " << w << "\n";
+    pcout << std::flush;
+  }
+
+  void
+  Simulation::print_summary(const double loop_seconds, const unsigned int steps_done)
+  {
+    const double bonds_global = Utilities::MPI::sum(double(bonds.n_bonds()), comm);
+    const double peak_sum     = peak_memory_bytes_sum(comm);
+    const double peak_max     = Utilities::MPI::max(peak_memory_bytes(), comm);
+    const unsigned int ranks  = Utilities::MPI::n_mpi_processes(comm);
+    const double updates      = loop_seconds > 0 ? bonds_global * steps_done / loop_seconds : 0;
+    const double e_ref        = std::abs(initial_energy) + std::abs(external_work);
+
+    pcout << "\nPeriDeal summary\n"
+          << "  points:                 " << cloud.n_global() << "\n"
+          << "  bonds:                  " << std::setprecision(12) << bonds_global << " (directed)\n"
+          << "  steps:                  " << steps_done << "\n"
+          << "  wall time:              " << format_seconds(setup_seconds + loop_seconds)
+          << " (set-up " << format_seconds(setup_seconds) << ", time loop " << format_seconds(loop_seconds) << ")\n"
+          << "  bond updates per second: " << sci(updates / 1e6, 4) << " M (" << sci(updates / 1e6 / ranks, 4)
+          << " M per rank)\n"
+          << "  peak memory:            " << mib(peak_sum) << " over all ranks (largest rank " << mib(peak_max)
+          << "); " << sci(peak_sum / std::max(1.0, bonds_global), 3) << " bytes per bond, "
+          << sci(peak_sum / std::max<double>(1, cloud.n_global()), 4) << " bytes per point\n"
+          << "  stable time step:       " << sci(dt_stable, 6) << ", used " << sci(dt, 6) << "\n";
+    if (e_ref > 0)
+      pcout << "  energy balance error:   "
+            << sci((last_kinetic_energy + last_strain_energy - initial_energy - external_work) / e_ref, 3)
+            << " (kinetic + strain - initial - external work, relative)\n";
+    pcout << "  warnings:               " << (warnings.empty() ? std::string("none") : std::to_string(warnings.size()))
+          << "\n";
+    for (const auto &w : warnings)
+      pcout << "Warning: " << w << "\n";
+    pcout << std::flush;
+    timer.print_summary();
+  }
+
+  // ----------------------------------------------------------------- the run
+
+  void
+  Simulation::dry_run()
+  {
+    setup();
+    print_setup_report();
+    pcout << "Dry run: set-up done, no time step taken." << std::endl;
+  }
+
+  std::string
+  Simulation::locate_nonfinite()
+  {
+    const unsigned int n     = cloud.n_owned();
+    double             found = std::numeric_limits<double>::max();
+    std::array<double, dim> x{{0, 0, 0}};
+    for (unsigned int i = 0; i < n && found == std::numeric_limits<double>::max(); ++i)
+      for (unsigned int d = 0; d < dim; ++d)
+        if (!std::isfinite(velocity.local_element(dim * i + d)) ||
+            !std::isfinite(displacement.local_element(dim * i + d)) ||
+            !std::isfinite(force.local_element(dim * i + d)))
+          {
+            found = cloud.gid[i];
+            x     = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2]}};
+            break;
+          }
+    const double first = Utilities::MPI::min(found, comm);
+    if (found != first)
+      x = {{0, 0, 0}};
+    Utilities::MPI::sum(ArrayView<const double>(x.data(), dim), comm, ArrayView<double>(x.data(), dim));
+    return "point " + std::to_string(static_cast<long long>(first)) + " at (" + sci(x[0]) + ", " +
+           sci(x[1]) + ", " + sci(x[2]) + ")";
+  }
+
+  void
+  Simulation::run()
+  {
+    setup();
+    print_setup_report();
+
+    unsigned int n_steps = requested_steps;
+    if (n_steps == 0)
+      {
+        n_steps = static_cast<unsigned int>(std::ceil((final_time - initial_time) / dt - 1e-9));
+        n_steps = std::max(1u, n_steps);
+        dt      = (final_time - initial_time) / n_steps;
+      }
+    output.initialize(comm);
+
+    const unsigned int n       = cloud.n_owned();
+    const unsigned int entries = dim * n;
+    apply_initial_conditions();
+    displacement.update_ghost_values();
+    compute_forces(true);
+    {
+      const auto row = global_quantities(0, initial_time);
+      initial_energy = row[2].second + row[3].second;
+    }
+    if (output.is_output_step(0, n_steps))
+      write_output(0, initial_time);
+    for (unsigned int k = 0; k < constraints.size(); ++k)
+      constraint_force[k] = force.local_element(dim * constraints[k].point + constraints[k].component);
+
+    // The constrained entries (the rest follow the equations of motion).
+    std::vector<bool> constrained(entries, false);
+    for (const auto &c : constraints)
+      constrained[dim * c.point + c.component] = true;
+
+    std::vector<double> inverse_density(n);
+    for (unsigned int i = 0; i < n; ++i)
+      inverse_density[i] = 1 / mass_density[i];
+    std::vector<double> u_previous(entries), v_previous(entries);
+
+    pcout << "Time integration: " << n_steps << " steps of " << sci(dt, 6) << " from t = " << initial_time
+          << std::endl;
+    const auto start        = std::chrono::steady_clock::now();
+    auto       last_print   = start;
+    double     last_percent = 0;
+    unsigned int step       = 0;
+    double       time       = initial_time;
+    double *const u = displacement.begin();
+    double *const v = velocity.begin();
+    double *const f = force.begin();
+    for (step = 1; step <= n_steps; ++step)
+      {
+        const double new_time = initial_time + step * dt;
+        {
+          TimerOutput::Scope t(timer, "time integration");
+          std::copy(u, u + entries, u_previous.begin());
+          std::copy(v, v + entries, v_previous.begin());
+          // Half kick and drift; the force already holds the body force.
+          for (unsigned int k = 0; k < entries; ++k)
+            {
+              v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
+              u[k] += dt * v[k];
+            }
+          apply_prescribed(new_time, dt);
+          if (body_force_depends_on_time)
+            {
+              std::fill(body_force.begin(), body_force.end(), 0.0);
+              for (const auto &bc : conditions)
+                if (bc.type == BoundaryCondition::Type::body_force)
+                  for (const unsigned int i : bc.points)
+                    body_force[dim * i + bc.component] +=
+                      bc.value->value(cloud.position(i), new_time, cloud.hash(i));
+            }
+        }
+        {
+          TimerOutput::Scope t(timer, "ghost exchange");
+          displacement.update_ghost_values();
+        }
+        const bool output_step = output.is_output_step(step, n_steps);
+        compute_forces(output_step);
+
+        double ke = 0, work = 0;
+        {
+          TimerOutput::Scope t(timer, "time integration");
+          for (unsigned int k = 0; k < entries; ++k)
+            v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
+          // Prescribed velocities stay as prescribed.
+          for (unsigned int c = 0; c < constraints.size(); ++c)
+            {
+              const Constraint &con = constraints[c];
+              const unsigned int e  = dim * con.point + con.component;
+              const BoundaryCondition &bc = conditions[con.condition];
+              if (bc.type == BoundaryCondition::Type::prescribed_velocity)
+                v[e] = bc.value->value(cloud.position(con.point), new_time, cloud.hash(con.point));
+              else
+                v[e] = (u[e] - u_previous[e]) / dt;
+              // Work of the reaction: the change of kinetic energy of the
+              // constrained entry minus the work of the internal force on it.
+              const double mass = mass_density[con.point] * cloud.volume[con.point];
+              work += 0.5 * mass * (v[e] * v[e] - v_previous[e] * v_previous[e]) -
+                      0.5 * (constraint_force[c] + f[e]) * cloud.volume[con.point] * (u[e] - u_previous[e]);
+              constraint_force[c] = f[e];
+            }
+          if (!body_force.empty())
+            for (unsigned int k = 0; k < entries; ++k)
+              if (!constrained[k])
+                work += body_force[k] * cloud.volume[k / dim] * (u[k] - u_previous[k]);
+          for (unsigned int i = 0; i < n; ++i)
+            ke += 0.5 * mass_density[i] * cloud.volume[i] *
+                  (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+        }
+        double sums[2] = {ke, work};
+        Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
+        ke = sums[0];
+        external_work += sums[1];
+
+        const double reference = std::abs(initial_energy) + std::abs(external_work);
+        const bool   nonfinite = !std::isfinite(ke);
+        const bool   exploding = !nonfinite && ke > 0 && ke > energy_growth_limit * reference;
+        if (nonfinite || exploding)
+          {
+            std::string where = nonfinite ? locate_nonfinite() : "";
+            if (exploding)
+              {
+                // The fastest point.
+                double      vmax = 0;
+                std::array<double, dim> x{{0, 0, 0}};
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const double s = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
+                    if (s > vmax)
+                      vmax = s, x = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2]}};
+                  }
+                const double global = Utilities::MPI::max(vmax, comm);
+                if (vmax != global)
+                  x = {{0, 0, 0}};
+                const double owners = Utilities::MPI::sum(vmax == global ? 1.0 : 0.0, comm);
+                Utilities::MPI::sum(ArrayView<const double>(x.data(), dim), comm, ArrayView<double>(x.data(), dim));
+                where = "fastest point at (" + sci(x[0] / owners) + ", " + sci(x[1] / owners) + ", " +
+                        sci(x[2] / owners) + "), speed " + sci(std::sqrt(global));
+              }
+            const std::string cause =
+              dt > dt_stable ?
+                "the time step " + sci(dt) + " exceeds the stable estimate " + sci(dt_stable) +
+                  ": lower Solver/Verlet/Fixed dt, or set it to 0 for the automatic step" :
+                "loading or an initial state beyond what the material carries, or a time step too "
+                "close to the limit (lower Solver/Verlet/Safety factor)";
+            // Write the last good state, then stop.
+            std::copy(u_previous.begin(), u_previous.end(), u);
+            std::copy(v_previous.begin(), v_previous.end(), v);
+            displacement.update_ghost_values();
+            if (output.frequency > 0)
+              {
+                compute_forces(true);
+                write_output(step - 1, time);
+              }
+            AssertThrow(false,
+                        ExcMessage(std::string(nonfinite ? "the solution became non-finite" :
+                                                           "the kinetic energy grew to " + sci(ke) + ", more than " +
+                                                             sci(energy_growth_limit, 3) + " times the energy put in (" +
+                                                             sci(reference) + ")") +
+                                   " at step " + std::to_string(step) + " (t = " + sci(new_time, 6) + "), " +
+                                   where + ". Likely cause: " + cause +
+                                   (output.frequency > 0 ? ". The last good state is written as step " +
+                                                             std::to_string(step - 1) + "." :
+                                                           "")));
+          }
+        time = new_time;
+        if (output_step)
+          write_output(step, time);
+
+        const auto   now     = std::chrono::steady_clock::now();
+        const double percent = 100.0 * step / n_steps;
+        if (percent - last_percent >= 10 || std::chrono::duration<double>(now - last_print).count() > 30 ||
+            step == n_steps)
+          {
+            const double elapsed = std::chrono::duration<double>(now - start).count();
+            pcout << "  " << std::setw(5) << std::fixed << std::setprecision(1) << percent << std::defaultfloat
+                  << "%  step " << step << "/" << n_steps << "  t = " << sci(time, 6) << "  dt = " << sci(dt, 4)
+                  << "  ETA " << format_seconds(elapsed / step * (n_steps - step)) << std::endl;
+            last_percent = percent;
+            last_print   = now;
+          }
+      }
+    const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!output.is_output_step(n_steps, n_steps))
+      {
+        // The energy balance needs the final strain energy.
+        compute_forces(true);
+        global_quantities(n_steps, time);
+      }
+    print_summary(loop_seconds, n_steps);
+  }
+} // namespace perideal
