@@ -1,15 +1,28 @@
 #include <perideal/base/memory.h>
 
-#include <sys/resource.h>
+#include <fstream>
+#include <string>
 
 namespace perideal
 {
   double
   peak_memory_bytes()
   {
-    rusage usage;
-    getrusage(RUSAGE_SELF, &usage);
-    return 1024.0 * usage.ru_maxrss; // Linux reports kilobytes
+    // VmHWM: the high-water mark of this process image's resident memory
+    // (getrusage's ru_maxrss may carry over the image before exec).
+    std::ifstream status("/proc/self/status");
+    std::string   key;
+    while (status >> key)
+      {
+        if (key == "VmHWM:")
+          {
+            double kb = 0;
+            status >> kb;
+            return 1024.0 * kb;
+          }
+        status.ignore(1 << 20, '\n');
+      }
+    return 0;
   }
 
   double

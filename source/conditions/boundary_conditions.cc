@@ -25,7 +25,8 @@ namespace perideal
                       "rnd(a) adds a uniform random number in [-a, a], the same for a "
                       "point on any number of ranks; atan2, pow, floor and ceil are known.");
     prm.declare_entry("Random seed", "0", Patterns::Integer(0),
-                      "Seed of rnd() in Value.");
+                      "Seed of rnd() in Value. The numbers depend on the seed, the "
+                      "component and the point, not on the number of ranks.");
   }
 
   void
@@ -39,8 +40,10 @@ namespace perideal
                                                            Type::body_force;
     region    = prm.get("Region");
     component = prm.get("Component")[0] - 'x';
-    value     = std::make_unique<Expression>(prm.get("Value"),
+    // The component enters the seed: x, y and z conditions with the same seed
+    // still draw independent numbers at a point.
+    value = std::make_unique<Expression>(prm.get("Value"),
                                          path + "/Value",
-                                         prm.get_integer("Random seed"));
+                                         dim * prm.get_integer("Random seed") + component);
   }
 } // namespace perideal

@@ -1,0 +1,510 @@
+#!/bin/bash
+# cube-explicit benchmark: PeriDeal and LAMMPS (PERI package) side by side.
+#
+# Scene (see doc/performance.md): n^3 points on [0,1]^3 (box cells, centroids at
+# (i+1/2)h, h = 1/n), horizon 3.015 h, density 1; PMB K = 1; LPS K = 1, G = 0.6;
+# initial velocity vamp*(x-0.5, y-0.5, z-0.5); velocity Verlet with the fixed
+# dt = 0.3560630338 h; 200 steps; no field output.
+#   elastic     critical stretch 1.0,   vamp 0.01 (no bond breaks)
+#   elastic-nd  as elastic, but PeriDeal runs without a damage model (LAMMPS
+#               cannot switch its bond-break check off, it runs 'elastic')
+#   dmg         critical stretch 0.005, vamp 0.02 (bonds break)
+#
+# Every case runs PeriDeal, then LAMMPS right after it (interleaved), so that
+# both see the same machine load; compare the ratios, not absolute times.
+#
+# usage: bench/cube_explicit.sh [options]
+#   -m, --models LIST     pmb lps                      (default: "pmb lps")
+#   -v, --variants LIST   elastic elastic-nd dmg       (default: "elastic dmg")
+#   -n, --sizes LIST      points per edge              (default: "20 40 60")
+#   -r, --ranks LIST      MPI ranks                    (default: "1 2")
+#   -R, --reps N          repetitions of every case    (default: 1)
+#   -c, --codes LIST      perideal lammps              (default: both)
+#       --pd-app PATH     PeriDeal executable          (default: build/pd_app)
+#       --steps N         time steps                   (default: 200)
+#       --globals-freq F  PeriDeal Output/Frequency: 200 writes the globals CSV
+#                         (kinetic energy, damage) at steps 0 and 200 only, no
+#                         field files; 0 writes nothing    (default: 200)
+#       --no-physics      skip the separate n=20 physics check (PeriDeal with the
+#                         Damage field, for the mean damage; LAMMPS n=20 1 rank)
+#   -o, --out DIR         results directory   (default: bench/results/<date-time>)
+#       --summarize DIR   only print the tables of an earlier results directory
+#   -h, --help
+# Lists may be separated by spaces or commas.  Example (quick, about a minute):
+#   bench/cube_explicit.sh -n 20 -v elastic -r 1,2 --pd-app build-bench/pd_app
+#
+# Output: one line per run while running, then markdown tables (also written
+# to DIR/table.md); the raw numbers are in DIR/results.tsv, the logs per run in
+# DIR/<code>_<model>_<variant>_n<n>_np<ranks>_r<rep>/.
+set -u -o pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(dirname "$here")
+
+MODELS="pmb lps"
+VARIANTS="elastic dmg"
+SIZES="20 40 60"
+RANKS="1 2"
+REPS=1
+CODES="perideal lammps"
+PD_APP="$root/build/pd_app"
+STEPS=200
+FREQ=200
+PHYSICS=1
+OUT=""
+SUMMARIZE=""
+
+usage() { sed -n '2,/^set -u/p' "${BASH_SOURCE[0]}" | sed '$d' | sed 's/^# \{0,1\}//'; }
+list() { echo "$1" | tr ',' ' '; }
+
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -m|--models)    MODELS=$(list "$2"); shift 2;;
+    -v|--variants)  VARIANTS=$(list "$2"); shift 2;;
+    -n|--sizes)     SIZES=$(list "$2"); shift 2;;
+    -r|--ranks)     RANKS=$(list "$2"); shift 2;;
+    -R|--reps)      REPS=$2; shift 2;;
+    -c|--codes)     CODES=$(list "$2"); shift 2;;
+    --pd-app)       PD_APP=$2; shift 2;;
+    --steps)        STEPS=$2; shift 2;;
+    --globals-freq) FREQ=$2; shift 2;;
+    --no-physics)   PHYSICS=0; shift;;
+    -o|--out)       OUT=$2; shift 2;;
+    --summarize)    SUMMARIZE=$2; shift 2;;
+    -h|--help)      usage; exit 0;;
+    *) echo "Error: unknown option '$1' (see --help)" >&2; exit 2;;
+  esac
+done
+
+for m in $MODELS; do case $m in pmb|lps) ;; *) echo "Error: unknown model '$m'" >&2; exit 2;; esac; done
+for v in $VARIANTS; do case $v in elastic|elastic-nd|dmg) ;; *) echo "Error: unknown variant '$v'" >&2; exit 2;; esac; done
+for c in $CODES; do case $c in perideal|lammps) ;; *) echo "Error: unknown code '$c'" >&2; exit 2;; esac; done
+
+has() { case " $2 " in *" $1 "*) return 0;; *) return 1;; esac; }
+
+# ------------------------------------------------------------------ helpers
+
+# Directed bond count (sum of family sizes) of the n^3 lattice with horizon
+# 3.015 h; the logic of lammps/bondcount.py.  20: 816728, 40: 7153608, 60: 24866488.
+bond_count() {
+  awk -v n="$1" 'BEGIN {
+    t = 0; k = 0
+    for (a = -3; a <= 3; a++) for (b = -3; b <= 3; b++) for (c = -3; c <= 3; c++) {
+      r = a*a + b*b + c*c
+      if (r == 0 || r > 3.015*3.015) continue
+      k++; t += (n - (a<0?-a:a)) * (n - (b<0?-b:b)) * (n - (c<0?-c:c))
+    }
+    if (k != 122) { print "bad offset count " k > "/dev/stderr"; exit 1 }
+    printf "%d\n", t }'
+}
+
+variant_params() { # -> "s_c vamp"
+  case $1 in
+    elastic|elastic-nd) echo "1.0 0.01";;
+    dmg)                echo "0.005 0.02";;
+  esac
+}
+
+# PeriDeal parameter file of one case.
+write_prm() { # model variant n file [output variables]
+  local model=$1 var=$2 n=$3 file=$4 vars=${5:-}
+  local sc vamp
+  read -r sc vamp <<< "$(variant_params "$var")"
+  local h horizon dt
+  horizon=$(awk -v n="$n" 'BEGIN { printf "%.15g", 3.015 / n }')
+  dt=$(awk -v n="$n" 'BEGIN { printf "%.15g", 0.3560630338 / n }')
+  {
+    echo "# cube-explicit, $model $var, n = $n (generated by bench/cube_explicit.sh)"
+    echo "subsection Discretization"
+    echo "  set Type = Box"
+    echo "  set Horizon = $horizon"
+    echo "  subsection Box"
+    echo "    set Lower corner = 0,0,0"
+    echo "    set Upper corner = 1,1,1"
+    echo "    set Subdivisions = $n,$n,$n"
+    echo "  end"
+    echo "end"
+    echo "subsection Materials"
+    echo "  set Names = mat"
+    echo "  subsection mat"
+    if [ "$model" = pmb ]; then
+      echo "    set Model = PMB"
+    else
+      echo "    set Model = LPS"
+      echo "    set Shear modulus = 0.6"
+    fi
+    echo "    set Density = 1"
+    echo "    set Bulk modulus = 1"
+    echo "  end"
+    echo "end"
+    if [ "$var" != elastic-nd ]; then
+      echo "subsection Damage models"
+      echo "  set Names = stretch"
+      echo "  subsection stretch"
+      echo "    set Model = Critical stretch"
+      echo "    set Critical stretch = $sc"
+      echo "  end"
+      echo "end"
+    fi
+    echo "subsection Blocks"
+    echo "  set Names = cube"
+    echo "  subsection cube"
+    echo "    set Material = mat"
+    [ "$var" != elastic-nd ] && echo "    set Damage model = stretch"
+    echo "  end"
+    echo "end"
+    echo "subsection Boundary conditions"
+    echo "  set Names = vx, vy, vz"
+    for c in x y z; do
+      echo "  subsection v$c"
+      echo "    set Type = Initial velocity"
+      echo "    set Component = $c"
+      echo "    set Value = $vamp*($c-0.5)"
+      echo "  end"
+    done
+    echo "end"
+    echo "subsection Solver"
+    echo "  set Type = Verlet"
+    echo "  set Number of steps = $STEPS"
+    echo "  subsection Verlet"
+    echo "    set Fixed dt = $dt"
+    echo "  end"
+    echo "end"
+    echo "subsection Output"
+    echo "  set Directory = output"
+    echo "  set Base name = cube"
+    echo "  set Frequency = $FREQ"
+    echo "  set Variables = $vars"
+    echo "  set Write globals = true"
+    echo "end"
+  } > "$file"
+}
+
+# "ke0 ke_end se_end broken max_damage" from a PeriDeal globals CSV (- if absent).
+pd_globals() {
+  local csv=$1
+  if [ ! -s "$csv" ]; then echo "- - - - -"; return; fi
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+           NR == 2 { ke0 = $col["kinetic_energy"] }
+           { ke = $col["kinetic_energy"]; se = $col["strain_energy"];
+             br = $col["broken_bonds"]; md = $col["max_damage"] }
+           END { print ke0, ke, se, br, md }' "$csv"
+}
+
+# Seconds of a TimerOutput section in a PeriDeal log ("0" if absent).
+pd_timer() {
+  awk -F'|' -v s="$2" '{ name = $2; gsub(/^ +| +$/, "", name) }
+    name == s { t = $4; gsub(/[ s]/, "", t); print t; found = 1; exit }
+    END { if (!found) print 0 }' "$1"
+}
+
+# "ke0 ke_end pe_end dave dmax" of the last LAMMPS run in a log (raw LAMMPS units).
+lmp_thermo() {
+  awk -v steps="$2" '
+    /^ *Step / { blk++; delete row; inb = 1; next }
+    /^Loop time/ { inb = 0; next }
+    inb && $1 ~ /^[0-9]+$/ { row[$1] = $3 " " $4 " " $5 " " $6 }
+    END { split(row[0], a, " "); split(row[steps], b, " ");
+          if (!(0 in row) || !(steps in row)) { print "- - - - -"; exit }
+          print a[1], b[1], b[2], b[3], b[4] }' "$1"
+}
+
+loadavg() { cut -d' ' -f1 /proc/loadavg; }
+
+# ---------------------------------------------------------------- summary
+
+COLS="code model variant n ranks rep status loop_s bonds updates peak_mib ke0 ke_end se_end broken dmax dave t_force t_damage t_ghost t_integ t_output load1"
+
+summarize() { # results.tsv
+  awk -F'\t' -v steps="$STEPS" '
+    function median(s,   a, k, i, j, t) {
+      k = split(s, a, ",")
+      for (i = 2; i <= k; i++) { t = a[i] + 0; for (j = i - 1; j >= 1 && a[j] + 0 > t; j--) a[j+1] = a[j]; a[j+1] = t }
+      return (k % 2) ? a[(k+1)/2] : (a[k/2] + a[k/2+1]) / 2
+    }
+    function add(arr, key, v) { arr[key] = (key in arr) ? arr[key] "," v : v }
+    function fmt(x, f) { return (x == "" || x == "-") ? "-" : sprintf(f, x) }
+    NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["status"] != "ok" { failed[$c["code"] " " $c["model"] " " $c["variant"] " n=" $c["n"] " np=" $c["ranks"] " rep " $c["rep"] ": " $c["status"]] = 1; next }
+    {
+      key = $c["code"] SUBSEP $c["model"] SUBSEP $c["variant"] SUBSEP $c["n"] SUBSEP $c["ranks"]
+      if (!(key in seen)) { seen[key] = 1; order[++nk] = key }
+      add(loops, key, $c["loop_s"]); add(mems, key, $c["peak_mib"]); reps[key]++
+      bonds[key] = $c["bonds"]
+      ke0[key] = $c["ke0"]; ke[key] = $c["ke_end"]; se[key] = $c["se_end"]
+      br[key] = $c["broken"]; dmax[key] = $c["dmax"]; dave[key] = $c["dave"]
+      add(tf, key, $c["t_force"]); add(td, key, $c["t_damage"]); add(tg, key, $c["t_ghost"])
+      add(ti, key, $c["t_integ"]); add(to, key, $c["t_output"])
+    }
+    END {
+      # sort: model, variant, n, ranks, code (perideal first)
+      for (i = 1; i <= nk; i++) {
+        split(order[i], f, SUBSEP)
+        sk[i] = sprintf("%s %s %06d %03d %s", f[2], f[3], f[4], f[5], f[1] == "perideal" ? "a" : "b")
+      }
+      for (i = 2; i <= nk; i++) { t = order[i]; u = sk[i]; for (j = i - 1; j >= 1 && sk[j] > u; j--) { order[j+1] = order[j]; sk[j+1] = sk[j] } order[j+1] = t; sk[j+1] = u }
+      for (i = 1; i <= nk; i++) {
+        key = order[i]; L[key] = median(loops[key]); U[key] = bonds[key] * steps / L[key]; M[key] = median(mems[key])
+      }
+      print "### Performance (median over repetitions)"
+      print ""
+      print "| code | model | variant | n | ranks | reps | loop [s] | bond updates/s | per core | peak mem [MiB] | bytes/bond | PeriDeal/LAMMPS per core | 2-rank efficiency |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+      for (i = 1; i <= nk; i++) {
+        key = order[i]; split(key, f, SUBSEP)
+        other = (f[1] == "perideal" ? "lammps" : "perideal") SUBSEP f[2] SUBSEP f[3] SUBSEP f[4] SUBSEP f[5]
+        ratio = "-"
+        if (f[1] == "perideal" && (other in U)) ratio = sprintf("%.2f", U[key] / U[other])
+        eff = "-"
+        one = f[1] SUBSEP f[2] SUBSEP f[3] SUBSEP f[4] SUBSEP 1
+        if (f[5] == 2 && (one in U)) eff = sprintf("%.0f%%", 100 * U[key] / (2 * U[one]))
+        printf "| %s | %s | %s | %d | %d | %d | %.3f | %.1f M | %.1f M | %.0f | %.1f | %s | %s |\n",
+          (f[1] == "perideal" ? "PeriDeal" : "LAMMPS"), toupper(f[2]), f[3], f[4], f[5], reps[key], L[key],
+          U[key] / 1e6, U[key] / 1e6 / f[5], M[key], M[key] * 1048576 / bonds[key], ratio, eff
+      }
+      print ""
+      print "### Physics at step " steps " (kinetic energy in PeriDeal units: LAMMPS ke x h^3)"
+      print ""
+      print "| model | variant | n | ranks | KE(0) PeriDeal | KE(0) LAMMPS | KE(" steps ") PeriDeal | KE(" steps ") LAMMPS | PeriDeal/LAMMPS | max damage PeriDeal / LAMMPS | broken bonds PeriDeal (fraction) | mean damage LAMMPS |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|---|"
+      for (i = 1; i <= nk; i++) {
+        key = order[i]; split(key, f, SUBSEP)
+        if (f[1] != "perideal") continue
+        other = "lammps" SUBSEP f[2] SUBSEP f[3] SUBSEP f[4] SUBSEP f[5]
+        has = (other in U)
+        r = (has && ke[other] + 0 > 0 && ke[key] != "-") ? sprintf("%.4f", ke[key] / ke[other]) : "-"
+        frac = (br[key] == "-") ? "-" : sprintf("%.0f (%.4f)", br[key], br[key] / (bonds[key] / 2))
+        printf "| %s | %s | %d | %d | %s | %s | %s | %s | %s | %s / %s | %s | %s |\n",
+          toupper(f[2]), f[3], f[4], f[5], fmt(ke0[key], "%.6g"), has ? fmt(ke0[other], "%.6g") : "-",
+          fmt(ke[key], "%.6g"), has ? fmt(ke[other], "%.6g") : "-", r,
+          fmt(dmax[key], "%.4f"), has ? fmt(dmax[other], "%.4f") : "-", frac, has ? fmt(dave[other], "%.4f") : "-"
+      }
+      print ""
+      print "### Where PeriDeal spends the time loop (TimerOutput, rank 0, median; seconds and share of the loop)"
+      print ""
+      print "| model | variant | n | ranks | loop [s] | force | damage | ghost exchange | time integration | output | rest |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|"
+      for (i = 1; i <= nk; i++) {
+        key = order[i]; split(key, f, SUBSEP)
+        if (f[1] != "perideal") continue
+        a = median(tf[key]); b = median(td[key]); g = median(tg[key]); t = median(ti[key]); o = median(to[key])
+        rest = L[key] - a - b - g - t - o
+        printf "| %s | %s | %d | %d | %.3f | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) |\n",
+          toupper(f[2]), f[3], f[4], f[5], L[key], a, 100*a/L[key], b, 100*b/L[key], g, 100*g/L[key],
+          t, 100*t/L[key], o, 100*o/L[key], rest, 100*rest/L[key]
+      }
+      print ""
+      print "### Targets (PeriDeal)"
+      print ""
+      print "| model | variant | n | PeriDeal/LAMMPS per core, 1 rank (>= 2) | 2 ranks (>= 2) | bytes/bond 1 rank (<= 24) | 2-rank efficiency (>= 90%) | LAMMPS 2-rank efficiency |"
+      print "|---|---|---|---|---|---|---|---|"
+      for (i = 1; i <= nk; i++) {
+        key = order[i]; split(key, f, SUBSEP)
+        if (f[1] != "perideal") continue
+        base = f[2] SUBSEP f[3] SUBSEP f[4]
+        if (base in done) continue
+        done[base] = 1
+        p1 = "perideal" SUBSEP base SUBSEP 1; p2 = "perideal" SUBSEP base SUBSEP 2
+        l1 = "lammps" SUBSEP base SUBSEP 1;   l2 = "lammps" SUBSEP base SUBSEP 2
+        r1 = (p1 in U && l1 in U) ? sprintf("%.2f %s", U[p1] / U[l1], U[p1] / U[l1] >= 2 ? "yes" : "**no**") : "-"
+        r2 = (p2 in U && l2 in U) ? sprintf("%.2f %s", U[p2] / U[l2], U[p2] / U[l2] >= 2 ? "yes" : "**no**") : "-"
+        bb = (p1 in U) ? sprintf("%.1f %s", M[p1] * 1048576 / bonds[p1], M[p1] * 1048576 / bonds[p1] <= 24 ? "yes" : "**no**") : "-"
+        e = (p1 in U && p2 in U) ? sprintf("%.0f%% %s", 100 * U[p2] / (2 * U[p1]), U[p2] / (2 * U[p1]) >= 0.9 ? "yes" : "**no**") : "-"
+        le = (l1 in U && l2 in U) ? sprintf("%.0f%%", 100 * U[l2] / (2 * U[l1])) : "-"
+        printf "| %s | %s | %d | %s | %s | %s | %s | %s |\n", toupper(f[2]), f[3], f[4], r1, r2, bb, e, le
+      }
+      nf = 0; for (k in failed) nf++
+      if (nf) { print ""; print "Failed runs:"; for (k in failed) print "- " k }
+    }' "$1"
+}
+
+# Mean point damage of a PeriDeal run from its Damage field (the .vtu pieces of
+# the last step); deal.II writes cell data as point data of 8 equal vertices,
+# which leaves the mean unchanged.
+pd_mean_damage() { # output dir
+  python3 - "$1" <<'EOF' 2>/dev/null || echo -
+import base64, glob, re, struct, sys, zlib
+d = sys.argv[1]
+steps = sorted(set(re.sub(r'\.\d+\.vtu$', '', f) for f in glob.glob(d + '/cube_*.vtu')))
+total = count = 0.0
+for f in glob.glob(steps[-1] + '.*.vtu'):
+    text = open(f).read()
+    m = re.search(r'<DataArray[^>]*Name="Damage"[^>]*>\s*([^<]*)<', text)
+    head = m.group(0)
+    raw = m.group(1).strip()
+    fmt = 'f' if 'Float32' in head else 'd'
+    if 'format="binary"' in head:
+        h = base64.b64decode(raw[:24])                    # 4 uint32: blocks, block size, last size, compressed size
+        nb, bs, last, *sizes = struct.unpack('<4I', h[:16])
+        hdr_len = 4 * (3 + nb)
+        hdr_chars = ((hdr_len + 2) // 3) * 4
+        h = base64.b64decode(raw[:hdr_chars])
+        nb, bs, last = struct.unpack('<3I', h[:12])
+        sizes = struct.unpack('<%dI' % nb, h[12:12 + 4 * nb])
+        data = base64.b64decode(raw[hdr_chars:])
+        out = b''; pos = 0
+        for s in sizes:
+            out += zlib.decompress(data[pos:pos + s]); pos += s
+        vals = struct.unpack('<%d%s' % (len(out) // struct.calcsize(fmt), fmt), out)
+    else:
+        vals = [float(v) for v in raw.split()]
+    total += sum(vals); count += len(vals)
+print('%.6g' % (total / count))
+EOF
+}
+
+physics_check() { # one PeriDeal run per model x dmg variant at n=20 on 1 rank, with the Damage field
+  local out=$1
+  local m v dir line any=0
+  for m in $MODELS; do
+    for v in $VARIANTS; do
+      [ "$v" = dmg ] || continue
+      any=1
+      dir="$out/physics_${m}_${v}_n20"
+      mkdir -p "$dir"
+      FREQ=$STEPS write_prm "$m" "$v" 20 "$dir/pd.prm" "Damage"
+      (cd "$dir" && mpirun -np 1 --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
+      line="| ${m^^} | $v | 20 | 1 | $(pd_mean_damage "$dir/output") |"
+      echo "$line" >> "$out/physics.md"
+    done
+  done
+  [ $any = 1 ] || return 0
+}
+
+# ---------------------------------------------------------------- main
+
+if [ -n "$SUMMARIZE" ]; then
+  summarize "$SUMMARIZE/results.tsv"
+  [ -s "$SUMMARIZE/physics.md" ] && { echo; cat "$SUMMARIZE/physics.md"; }
+  exit 0
+fi
+
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+
+need_pkg() { # command package
+  command -v "$1" > /dev/null 2>&1 && return 0
+  echo "$1 not found: installing the Debian package $2" >&2
+  if [ "$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq "$2" > /dev/null
+  else sudo apt-get update -qq && sudo apt-get install -y -qq "$2" > /dev/null; fi
+  command -v "$1" > /dev/null 2>&1 || { echo "Error: cannot install $2" >&2; exit 1; }
+}
+need_pkg mpirun openmpi-bin
+if has lammps "$CODES"; then
+  need_pkg lmp lammps
+  [ -x /usr/bin/time ] || need_pkg /usr/bin/time time
+fi
+if has perideal "$CODES"; then
+  [ -x "$PD_APP" ] || { echo "Error: no PeriDeal executable '$PD_APP' (build it: mkdir build && cd build && cmake -DCMAKE_BUILD_TYPE=Release .. && make -j2; or pass --pd-app)" >&2; exit 1; }
+  PD_APP=$(cd "$(dirname "$PD_APP")" && pwd)/$(basename "$PD_APP")
+fi
+
+[ -n "$OUT" ] || OUT="$here/results/$(date +%Y%m%d-%H%M%S)"
+mkdir -p "$OUT"
+OUT=$(cd "$OUT" && pwd)
+{
+  echo "date: $(date -Is)"
+  echo "host: $(hostname)"
+  echo "cpu: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
+  echo "load at start: $(cat /proc/loadavg)"
+  echo "pd_app: $PD_APP"
+  [ -f "$(dirname "$PD_APP")/CMakeCache.txt" ] && echo "pd_app build type: $(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$(dirname "$PD_APP")/CMakeCache.txt")"
+  echo "git: $(git -C "$root" rev-parse --short HEAD 2>/dev/null) $(git -C "$root" status --porcelain 2>/dev/null | grep -qv '^??' && echo '(modified tree)')"
+  echo "lammps: $(dpkg-query -W -f='${Version}' lammps 2>/dev/null)"
+  echo "command: $0 --models \"$MODELS\" --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS --globals-freq $FREQ"
+} > "$OUT/machine.txt"
+cat "$OUT/machine.txt"
+
+tsv="$OUT/results.tsv"
+[ -s "$tsv" ] || echo "$COLS" | tr ' ' '\t' > "$tsv"
+
+run_perideal() { # model variant n np rep
+  local m=$1 v=$2 n=$3 np=$4 rep=$5
+  local dir="$OUT/perideal_${m}_${v}_n${n}_np${np}_r${rep}"
+  rm -rf "$dir"; mkdir -p "$dir"
+  write_prm "$m" "$v" "$n" "$dir/pd.prm"
+  local load; load=$(loadavg)
+  (cd "$dir" && mpirun -np "$np" --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
+  local rc=$? status=ok
+  local upd bonds peak loop
+  upd=$(awk '/bond updates per second:/ { print $5; exit }' "$dir/pd.log")
+  bonds=$(awk '/^  bonds:/ && /\(directed\)$/ { b = $2 } END { print b }' "$dir/pd.log")
+  peak=$(awk '/peak memory:/ { print $3; exit }' "$dir/pd.log")
+  if [ $rc != 0 ] || [ -z "$upd" ] || [ -z "$bonds" ] || [ -z "$peak" ]; then
+    status="failed(rc=$rc)"; upd=0; bonds=${bonds:-0}; peak=${peak:-0}; loop=0
+  else
+    # The summary prints the loop time to 0.1 s; the rate has 4 digits.
+    loop=$(awk -v b="$bonds" -v s="$STEPS" -v u="$upd" 'BEGIN { printf "%.6g", b * s / (u * 1e6) }')
+    upd=$(awk -v u="$upd" 'BEGIN { printf "%.6g", u * 1e6 }')
+  fi
+  local g; g=$(pd_globals "$dir/output/cube.globals.csv")
+  local ke0 ke se br md; read -r ke0 ke se br md <<< "$g"
+  local tf td tg ti to
+  tf=$(pd_timer "$dir/pd.log" force); td=$(pd_timer "$dir/pd.log" damage)
+  tg=$(pd_timer "$dir/pd.log" "ghost exchange"); ti=$(pd_timer "$dir/pd.log" "time integration")
+  to=$(pd_timer "$dir/pd.log" output)
+  printf '%s\n' "perideal $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $se $br $md - $tf $td $tg $ti $to $load" | tr ' ' '\t' >> "$tsv"
+  printf '%s %-8s %-3s %-10s n=%-3s np=%s rep %s: %s loop %8.3f s  %7.2f M bond updates/s  %7.1f MiB  KE %s\n' \
+    "$(date +%T)" perideal "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$(awk -v u="$upd" 'BEGIN{print u/1e6}')" "$peak" "$ke"
+}
+
+run_lammps() { # model variant n np rep
+  local m=$1 v=$2 n=$3 np=$4 rep=$5
+  local dir="$OUT/lammps_${m}_${v}_n${n}_np${np}_r${rep}"
+  rm -rf "$dir"; mkdir -p "$dir"
+  local sc vamp; read -r sc vamp <<< "$(variant_params "$v")"
+  local load; load=$(loadavg)
+  (cd "$dir" && mpirun -np "$np" --bind-to core "$here/lammps/rank_wrap.sh" lmp \
+     lmp -in "$here/lammps/in.cube_$m" -var n "$n" -var s00 "$sc" -var vamp "$vamp" -var nsteps "$STEPS" \
+     -log lmp.log -screen none > lmp.out 2>&1)
+  local rc=$? status=ok
+  local loop bonds upd peak
+  loop=$(awk '/^Loop time of/ { t = $4 } END { print t }' "$dir/lmp.log" 2>/dev/null)
+  bonds=$(bond_count "$n")
+  peak=$(cat "$dir"/lmp.rank*.time 2>/dev/null | awk -F: '/Maximum resident set size/ { s += $2 } END { printf "%.1f", s / 1024 }')
+  if [ $rc != 0 ] || [ -z "$loop" ]; then
+    status="failed(rc=$rc)"; loop=0; upd=0
+  else
+    upd=$(awk -v b="$bonds" -v s="$STEPS" -v t="$loop" 'BEGIN { printf "%.6g", b * s / t }')
+  fi
+  local th; th=$(lmp_thermo "$dir/lmp.log" "$STEPS" 2>/dev/null || echo "- - - - -")
+  local ke0 ke pe dave dmax; read -r ke0 ke pe dave dmax <<< "$th"
+  # LAMMPS PERI: rmass = density, so its ke is sum 1/2 rho v^2 (no volume); x h^3.
+  if [ "$ke0" != - ]; then
+    read -r ke0 ke pe <<< "$(awk -v n="$n" -v a="$ke0" -v b="$ke" -v c="$pe" 'BEGIN { V = 1 / (n * n * n); printf "%.10g %.10g %.10g\n", a * V, b * V, c * V }')"
+  fi
+  printf '%s\n' "lammps $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $pe - $dmax $dave 0 0 0 0 0 $load" | tr ' ' '\t' >> "$tsv"
+  printf '%s %-8s %-3s %-10s n=%-3s np=%s rep %s: %s loop %8.3f s  %7.2f M bond updates/s  %7.1f MiB  KE %s\n' \
+    "$(date +%T)" lammps "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$(awk -v u="$upd" 'BEGIN{print u/1e6}')" "$peak" "$ke"
+}
+
+for rep in $(seq 1 "$REPS"); do
+  for n in $SIZES; do
+    for m in $MODELS; do
+      for v in $VARIANTS; do
+        for np in $RANKS; do
+          has perideal "$CODES" && run_perideal "$m" "$v" "$n" "$np" "$rep"
+          has lammps "$CODES" && run_lammps "$m" "$v" "$n" "$np" "$rep"
+        done
+      done
+    done
+  done
+done
+
+if [ $PHYSICS = 1 ] && has perideal "$CODES" && has dmg "$VARIANTS"; then
+  {
+    echo "### Separate physics check: PeriDeal mean point damage at step $STEPS (n = 20, 1 rank, Damage field written)"
+    echo
+    echo "| model | variant | n | ranks | mean damage PeriDeal |"
+    echo "|---|---|---|---|---|"
+  } > "$OUT/physics.md"
+  physics_check "$OUT"
+fi
+
+echo "load at end: $(cat /proc/loadavg)" >> "$OUT/machine.txt"
+echo
+{
+  echo "Results: $OUT"
+  echo
+  summarize "$tsv"
+  [ -s "$OUT/physics.md" ] && { echo; cat "$OUT/physics.md"; }
+} | tee "$OUT/table.md"

@@ -1,0 +1,317 @@
+// Checks the globals CSV of a pd_app run (step,time,kinetic_energy,
+// strain_energy,external_work,broken_bonds,max_damage) against analytic
+// answers. Usage:
+//   check_globals wave    CSV L c_expected n_minimum tolerance
+//   check_globals energy  CSV bound
+//   check_globals bounded CSV upper_bound
+//   check_globals pair    CSV A T s_c K horizon
+//   check_globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K
+// Prints the measured numbers with PASS/FAIL and returns non-zero on failure.
+// Serial; no MPI.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+  struct Row
+  {
+    double step, time, kinetic, strain, work, broken, damage;
+  };
+
+  std::vector<Row>
+  read_csv(const std::string &file)
+  {
+    std::ifstream in(file);
+    if (!in)
+      throw std::runtime_error("cannot open " + file);
+    std::string header;
+    std::getline(in, header);
+    if (header != "step,time,kinetic_energy,strain_energy,external_work,broken_bonds,max_damage")
+      throw std::runtime_error("unexpected header in " + file + ": " + header);
+    std::vector<Row> rows;
+    std::string      line;
+    while (std::getline(in, line))
+      {
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream s(line);
+        Row                r;
+        s >> r.step >> r.time >> r.kinetic >> r.strain >> r.work >> r.broken >> r.damage;
+        if (!s)
+          throw std::runtime_error("bad line in " + file + ": " + line);
+        rows.push_back(r);
+      }
+    if (rows.empty())
+      throw std::runtime_error("no rows in " + file);
+    return rows;
+  }
+
+  unsigned int failures = 0;
+
+  void
+  check(const std::string &name, const double value, const bool ok, const std::string &bound)
+  {
+    std::cout << std::setprecision(8) << name << " = " << value << "  (" << bound << ")  "
+              << (ok ? "PASS" : "FAIL") << "\n";
+    if (!ok)
+      ++failures;
+  }
+
+  std::string
+  str(const double v)
+  {
+    std::ostringstream o;
+    o << std::setprecision(6) << v;
+    return o.str();
+  }
+
+  // Time of the n-th local minimum of the kinetic energy after t = 0: a least
+  // squares parabola through the rows within +-w of the discrete minimum.
+  double
+  kinetic_minimum(const std::vector<Row> &rows, const unsigned int n, const unsigned int w)
+  {
+    unsigned int found = 0;
+    for (unsigned int k = 1; k + 1 < rows.size(); ++k)
+      if (rows[k].kinetic < rows[k - 1].kinetic && rows[k].kinetic <= rows[k + 1].kinetic &&
+          ++found == n)
+        {
+          if (k < w || k + w >= rows.size())
+            throw std::runtime_error("minimum too close to the end of the run");
+          // Fit KE = a + b s + c s^2, s = t - t_k.
+          double S[5] = {0, 0, 0, 0, 0}, T[3] = {0, 0, 0};
+          for (unsigned int j = k - w; j <= k + w; ++j)
+            {
+              const double s = rows[j].time - rows[k].time, e = rows[j].kinetic;
+              double       p = 1;
+              for (unsigned int q = 0; q < 5; ++q, p *= s)
+                {
+                  S[q] += p;
+                  if (q < 3)
+                    T[q] += p * e;
+                }
+            }
+          // Normal equations [S0 S1 S2; S1 S2 S3; S2 S3 S4] (a b c) = (T0 T1 T2), Cramer.
+          auto det3 = [](double a, double b, double c, double d, double e, double f, double g, double h,
+                         double i) { return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g); };
+          const double D  = det3(S[0], S[1], S[2], S[1], S[2], S[3], S[2], S[3], S[4]);
+          const double Db = det3(S[0], T[0], S[2], S[1], T[1], S[3], S[2], T[2], S[4]);
+          const double Dc = det3(S[0], S[1], T[0], S[1], S[2], T[1], S[2], S[3], T[2]);
+          return rows[k].time - 0.5 * (Db / D) / (Dc / D);
+        }
+    throw std::runtime_error("kinetic energy minimum " + std::to_string(n) + " not found");
+  }
+
+  double
+  total(const Row &r)
+  {
+    return r.kinetic + r.strain;
+  }
+} // namespace
+
+int
+main(int argc, char *argv[])
+{
+  try
+    {
+      if (argc < 3)
+        throw std::runtime_error("usage: check_globals MODE CSV ...");
+      const std::string         mode = argv[1];
+      const std::vector<Row>    rows = read_csv(argv[2]);
+      std::vector<double>       a;
+      for (int i = 3; i < argc; ++i)
+        a.push_back(std::atof(argv[i]));
+      auto need = [&](const std::size_t n) {
+        if (a.size() != n)
+          throw std::runtime_error(mode + " needs " + std::to_string(n) + " numbers after the CSV");
+      };
+      std::cout << rows.size() << " rows, last step " << rows.back().step << "\n";
+
+      if (mode == "wave")
+        {
+          // Free-free bar, u = A cos(pi x / L) at t = 0: the kinetic energy goes
+          // as sin^2(omega t), zero at t = n pi / omega = n L / c.
+          need(4);
+          const double       L = a[0], c_expected = a[1], tolerance = a[3];
+          const unsigned int n  = static_cast<unsigned int>(a[2]);
+          const double       tn = kinetic_minimum(rows, n, 5);
+          const double       c  = n * L / tn;
+          std::cout << std::setprecision(8) << "kinetic energy minimum " << n << " at t = " << tn << "\n";
+          check("wave speed c / sqrt(E/rho)", c / c_expected, std::abs(c / c_expected - 1) < tolerance,
+                "1 +- " + str(tolerance));
+        }
+      else if (mode == "energy")
+        {
+          need(1);
+          const double E0 = total(rows.front());
+          double       max_dev = 0;
+          for (const auto &r : rows)
+            max_dev = std::max(max_dev, std::abs(total(r) - E0) / E0);
+          const double drift = (total(rows.back()) - E0) / E0;
+          std::cout << std::setprecision(8) << "initial energy " << E0 << "\n";
+          check("relative drift of kinetic + strain energy at the end", drift, std::abs(drift) < a[0],
+                "|.| < " + str(a[0]));
+          check("max relative deviation of kinetic + strain energy", max_dev, max_dev < a[0],
+                "< " + str(a[0]));
+          double damage = 0;
+          for (const auto &r : rows)
+            damage = std::max(damage, r.broken + r.damage);
+          check("broken bonds + max damage", damage, damage == 0, "== 0: no damage model");
+        }
+      else if (mode == "bounded")
+        {
+          // Verlet on a linear system started from u = 0 keeps
+          // Q = v^2 + omega^2 (1 - (omega dt/2)^2) u^2 per mode: the measured
+          // energy stays in [E0, E0 / (1 - (omega dt / 2)^2)].
+          need(1);
+          const double E0 = total(rows.front());
+          double       lo = 1e300, hi = 0;
+          for (const auto &r : rows)
+            lo = std::min(lo, total(r) / E0), hi = std::max(hi, total(r) / E0);
+          check("min (kinetic + strain) / E0", lo, lo > 1 - 1e-6, "> 1 - 1e-6");
+          check("max (kinetic + strain) / E0", hi, hi < a[0], "< " + str(a[0]));
+        }
+      else if (mode == "pair")
+        {
+          // Two points 1 apart, volume 1, u_x = -+A sin(pi t/T): stretch
+          // s = 2 A sin(pi t / T). The bond breaks at the first step with
+          // s > s_c and stays broken; PMB strain energy of the intact bond
+          // (both halves) is c s^2 |xi| V^2 / 2 with c = 18 K / (pi delta^4).
+          need(5);
+          const double A = a[0], T = a[1], sc = a[2], K = a[3], delta = a[4];
+          const double c = 18 * K / (M_PI * std::pow(delta, 4));
+          double       s_max = -1;
+          int          break_step = -1;
+          unsigned int bad_broken = 0, bad_damage = 0;
+          double       bad_energy = 0;
+          for (const auto &r : rows)
+            {
+              const double s = 2 * A * std::sin(M_PI * r.time / T);
+              if (std::abs(s - sc) < 1e-9)
+                throw std::runtime_error("a step lands on s_c: choose another dt");
+              s_max = std::max(s_max, s);
+              const bool broken = s_max > sc;
+              if (broken && break_step < 0)
+                break_step = int(r.step);
+              bad_broken += r.broken != (broken ? 1 : 0);
+              bad_damage += r.damage != (broken ? 1 : 0);
+              const double energy = broken ? 0 : 0.5 * c * s * s;
+              bad_energy = std::max(bad_energy, std::abs(r.strain - energy) / (0.5 * c * sc * sc));
+            }
+          int csv_break = -1;
+          for (const auto &r : rows)
+            if (r.broken > 0 && csv_break < 0)
+              csv_break = int(r.step);
+          std::cout << "predicted break at step " << break_step << ", first broken row at step "
+                    << csv_break << "; rows run to s = " << 2 * A * std::sin(M_PI * rows.back().time / T)
+                    << "\n";
+          check("rows whose broken_bonds differs from the prediction", bad_broken, bad_broken == 0, "== 0");
+          check("rows whose max_damage differs from the prediction", bad_damage, bad_damage == 0, "== 0");
+          check("max |strain energy - c s^2/2| / (c s_c^2/2)", bad_energy, bad_energy < 1e-9, "< 1e-9");
+          check("broken bonds at the end (bond back at zero or compressed)", rows.back().broken,
+                rows.back().broken == 1, "== 1: stays broken");
+          check("break step", csv_break, csv_break == break_step && break_step > 0, "== predicted");
+        }
+      else if (mode == "split")
+        {
+          // A box of nx x ny x nz cells; the points with x < x_split stay put,
+          // the others are moved rigidly by d(t) = D sin(pi t / T) along x. A
+          // bond i (left) - j (right) has stretch (|xi + d e_x| - |xi|)/|xi| and
+          // breaks for good when it exceeds s_c; bonds within a half never
+          // stretch. Point damage is the broken share of the family (uniform
+          // volumes); strain energy (PMB) sums c s^2 |xi| V^2 / 2 over intact
+          // bonds.
+          need(12);
+          const unsigned int nx = a[0], ny = a[1], nz = a[2];
+          const double       Lx = a[3], Ly = a[4], Lz = a[5], delta = a[6], xs = a[7], D = a[8], T = a[9],
+                       sc = a[10], K = a[11];
+          const double hx = Lx / nx, hy = Ly / ny, hz = Lz / nz, V = hx * hy * hz;
+          const double c  = 18 * K / (M_PI * std::pow(delta, 4));
+          std::vector<std::array<double, 3>> X;
+          for (unsigned int k = 0; k < nz; ++k)
+            for (unsigned int j = 0; j < ny; ++j)
+              for (unsigned int i = 0; i < nx; ++i)
+                X.push_back({{(i + 0.5) * hx, (j + 0.5) * hy, (k + 0.5) * hz}});
+          struct Bond
+          {
+            unsigned int i, j;
+            double       ex, ey, ez, r0;
+          };
+          std::vector<Bond>         crossing;
+          std::vector<unsigned int> family(X.size(), 0);
+          const double              reach = delta * (1 + 1e-9);
+          for (unsigned int i = 0; i < X.size(); ++i)
+            for (unsigned int j = 0; j < X.size(); ++j)
+              {
+                const double ex = X[j][0] - X[i][0], ey = X[j][1] - X[i][1], ez = X[j][2] - X[i][2];
+                const double r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+                if (i == j || r0 > reach)
+                  continue;
+                ++family[i];
+                if (X[i][0] < xs && X[j][0] > xs)
+                  crossing.push_back({i, j, ex, ey, ez, r0});
+              }
+          std::cout << crossing.size() << " bonds cross x = " << xs << "\n";
+          std::vector<char> broken(crossing.size(), 0);
+          unsigned int      bad_broken = 0, bad_damage = 0, rows_with_breaks = 0, max_count = 0;
+          double            bad_energy = 0, d_max = 0;
+          for (const auto &r : rows)
+            {
+              const double d = D * std::sin(M_PI * r.time / T);
+              d_max          = std::max(d_max, d);
+              double       energy = 0;
+              unsigned int count  = 0;
+              std::vector<unsigned int> broken_of(X.size(), 0);
+              for (unsigned int b = 0; b < crossing.size(); ++b)
+                {
+                  const Bond  &e = crossing[b];
+                  const double r = std::sqrt((e.ex + d) * (e.ex + d) + e.ey * e.ey + e.ez * e.ez);
+                  const double s = (r - e.r0) / e.r0;
+                  if (std::abs(s - sc) < 1e-9)
+                    throw std::runtime_error("a bond lands on s_c: choose another dt or D");
+                  broken[b] |= s > sc;
+                  if (broken[b])
+                    ++count, ++broken_of[e.i], ++broken_of[e.j];
+                  else
+                    energy += 0.5 * c * s * s * e.r0 * V * V;
+                }
+              double damage = 0;
+              for (unsigned int p = 0; p < X.size(); ++p)
+                damage = std::max(damage, double(broken_of[p]) / family[p]);
+              rows_with_breaks += count > 0;
+              max_count = std::max(max_count, count);
+              bad_broken += r.broken != count;
+              bad_damage += std::abs(r.damage - damage) > 1e-12;
+              const double scale = 0.5 * c * sc * sc * V * V * crossing.size() * delta;
+              bad_energy         = std::max(bad_energy, std::abs(r.strain - energy) / scale);
+            }
+          std::cout << "broken bonds predicted at the end: " << max_count << " of " << crossing.size()
+                    << " crossing; max opening " << d_max << "\n";
+          check("rows whose broken_bonds differs from the prediction", bad_broken, bad_broken == 0, "== 0");
+          check("rows whose max_damage differs from the prediction", bad_damage, bad_damage == 0,
+                "== 0 (|diff| > 1e-12)");
+          check("max |strain energy - prediction| / (c s_c^2 V^2 delta n_crossing / 2)", bad_energy,
+                bad_energy < 1e-9, "< 1e-9");
+          check("broken bonds at the end", rows.back().broken,
+                rows.back().broken == max_count && max_count > 0 && max_count < crossing.size(),
+                "== predicted, some but not all crossing bonds");
+        }
+      else
+        throw std::runtime_error("unknown mode " + mode);
+    }
+  catch (const std::exception &e)
+    {
+      std::cout << "Error: " << e.what() << std::endl;
+      return 2;
+    }
+  std::cout << (failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED") << std::endl;
+  return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,243 @@
+#pragma once
+// A test harness that builds the pieces of a run by hand (box scene, points,
+// nonlocal ghosts, bonds, one material) so that a test can set any
+// displacement field and read the force density, dilatation and energy
+// density of every owned point. It evaluates the material the way the core
+// does: initialize, ghost the constant fields, compute_stage, ghost the stage
+// fields, compute_force.
+
+#include <perideal/base/input.h>
+#include <perideal/discretization/point_cloud.h>
+#include <perideal/geometry/scene.h>
+#include <perideal/material/material.h>
+#include <perideal/neighborhood/bonds.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_dgq.h>
+#include <deal.II/fe/fe_system.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace pdtest
+{
+  using namespace dealii;
+  using perideal::dim;
+
+  struct MaterialSpec
+  {
+    std::string                        model;
+    std::map<std::string, std::string> keys; // e.g. {"Bulk modulus", "1"}
+  };
+
+  class Harness
+  {
+  public:
+    Harness(const MPI_Comm                     comm,
+            const Point<3>                    &lower,
+            const Point<3>                    &upper,
+            const std::array<unsigned int, 3> &subdivisions,
+            const double                       horizon,
+            const MaterialSpec                &spec)
+      : comm(comm)
+      , horizon(horizon)
+      , triangulation(comm)
+      , fe(FE_DGQ<3>(0), 3)
+      , dof_handler(triangulation)
+    {
+      perideal::Scene scene;
+      scene.type         = "Box";
+      scene.lower        = lower;
+      scene.upper        = upper;
+      scene.subdivisions = subdivisions;
+      scene.horizon      = horizon;
+      scene.create_triangulation(triangulation);
+      dof_handler.distribute_dofs(fe);
+
+      cloud.build(dof_handler, [](const perideal::CellIterator &) { return 0; }, horizon, comm);
+      bonds  = perideal::find_families(cloud, {horizon}, comm);
+      fields = std::make_unique<perideal::FieldStore>(cloud);
+      u.reinit(cloud.vector_partitioner);
+      force.reinit(cloud.vector_partitioner);
+      energy.assign(cloud.n_owned(), 0.0);
+      points.resize(cloud.n_owned());
+      std::iota(points.begin(), points.end(), 0u);
+
+      ParameterHandler prm;
+      const auto      &entry = perideal::Registry<perideal::Material>::instance().get(spec.model, "test");
+      entry.declare(prm);
+      for (const auto &[key, value] : spec.keys)
+        prm.set(key, value);
+      material = entry.create();
+      material->parse_parameters(prm, "test material");
+      material->set_block(0, horizon);
+
+      material->initialize(state(false), points);
+      for (const auto &f : material->constant_fields())
+        fields->get(f).update_ghost_values();
+      for (const auto &f : material->stage_fields())
+        fields->get(f);
+    }
+
+    perideal::ModelState
+    state(const bool with_energy)
+    {
+      return perideal::ModelState{cloud,
+                                  bonds,
+                                  nullptr,
+                                  u.begin(),
+                                  force.begin(),
+                                  with_energy ? energy.data() : nullptr,
+                                  *fields};
+    }
+
+    /// Sets u on the owned points from @p g(reference position), then the ghosts.
+    void
+    set_displacement(const std::function<Tensor<1, 3>(const Point<3> &)> &g)
+    {
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        {
+          const Tensor<1, 3> d = g(cloud.position(i));
+          for (unsigned int c = 0; c < 3; ++c)
+            u.local_element(3 * i + c) = d[c];
+        }
+      u.update_ghost_values();
+    }
+
+    /// Sets u on the owned points from a flat owned array, then the ghosts.
+    void
+    set_displacement(const std::vector<double> &owned)
+    {
+      for (unsigned int k = 0; k < 3 * cloud.n_owned(); ++k)
+        u.local_element(k) = owned[k];
+      u.update_ghost_values();
+    }
+
+    /// Force density (and energy density) of every owned point for the current u.
+    void
+    evaluate(const bool with_energy = true)
+    {
+      std::fill(force.begin(), force.begin() + 3 * cloud.n_owned(), 0.0);
+      std::fill(energy.begin(), energy.end(), 0.0);
+      const auto s = state(with_energy);
+      material->compute_stage(s, points);
+      for (const auto &f : material->stage_fields())
+        fields->get(f).update_ghost_values();
+      material->compute_force(s, points);
+    }
+
+    Tensor<1, 3>
+    force_of(const unsigned int i) const
+    {
+      Tensor<1, 3> f;
+      for (unsigned int c = 0; c < 3; ++c)
+        f[c] = force.local_element(3 * i + c);
+      return f;
+    }
+
+    double
+    field(const std::string &name, const unsigned int i)
+    {
+      return fields->get(name).local_element(i);
+    }
+
+    /// Distance of owned point @p i to the surface of the box.
+    double
+    depth(const unsigned int i, const Point<3> &lower, const Point<3> &upper) const
+    {
+      const Point<3> x = cloud.position(i);
+      double         d = std::numeric_limits<double>::max();
+      for (unsigned int c = 0; c < 3; ++c)
+        d = std::min({d, x[c] - lower[c], upper[c] - x[c]});
+      return d;
+    }
+
+    double
+    stable_time_step()
+    {
+      return Utilities::MPI::min(material->stable_time_step(state(false), points), comm);
+    }
+
+    MPI_Comm                                          comm;
+    double                                            horizon;
+    parallel::distributed::Triangulation<3>           triangulation;
+    FESystem<3>                                       fe;
+    DoFHandler<3>                                     dof_handler;
+    perideal::PointCloud                              cloud;
+    perideal::Bonds                                   bonds;
+    std::unique_ptr<perideal::FieldStore>             fields;
+    std::unique_ptr<perideal::Material>               material;
+    perideal::VectorType                              u, force;
+    std::vector<double>                               energy;
+    std::vector<unsigned int>                         points;
+  };
+
+  /// Prints on rank 0 and counts failures.
+  class Report
+  {
+  public:
+    explicit Report(const MPI_Comm comm)
+      : root(Utilities::MPI::this_mpi_process(comm) == 0)
+    {}
+
+    void
+    line(const std::string &text)
+    {
+      if (root)
+        std::cout << text << std::endl;
+    }
+
+    /// "name = value (bound)": passes if @p ok.
+    void
+    check(const std::string &name, const double value, const bool ok, const std::string &bound)
+    {
+      std::ostringstream o;
+      o << std::setprecision(6) << name << " = " << value << "  (" << bound << ")  "
+        << (ok ? "PASS" : "FAIL");
+      line(o.str());
+      if (!ok)
+        ++failures;
+    }
+
+    /// A number printed for comparison only (10 significant digits).
+    void
+    value(const std::string &name, const double v)
+    {
+      std::ostringstream o;
+      o << std::setprecision(10) << name << " = " << v;
+      line(o.str());
+    }
+
+    int
+    finish()
+    {
+      line(failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED");
+      return failures == 0 ? 0 : 1;
+    }
+
+    unsigned int failures = 0;
+
+  private:
+    bool root;
+  };
+
+  inline std::string
+  sci(const double v, const int digits = 3)
+  {
+    std::ostringstream o;
+    o << std::setprecision(digits) << v;
+    return o.str();
+  }
+} // namespace pdtest

@@ -1,0 +1,120 @@
+// Rigid motions give zero internal force (PMB and LPS).
+//
+// A rigid motion y = Q x + c keeps every bond length, so every bond's
+// extension is zero up to round-off and so are the force density, the LPS
+// dilatation and the strain energy density, at every point, surface points
+// included. The force is measured against the force scale of a small strain,
+//   f_ref = K * 1e-3 / horizon
+// (the force density a strain of 1e-3 that varies over one horizon gives), and
+// the dilatation against 1e-3. Round-off in |y_j - y_i| is about 1e-16 |y|, a
+// stretch of ~1e-15 against 1e-3: the bound 1e-10 leaves four orders of margin
+// and still catches any real force (a wrong sign or a missing term gives O(1)).
+//
+// The box has different spacings along x, y and z and is off the origin, so
+// the rotations move points by O(1) (the 90 degree one by up to ~1.5).
+
+#include "harness.h"
+
+#include <deal.II/physics/transformations.h>
+
+using namespace pdtest;
+
+namespace
+{
+  Tensor<2, 3>
+  rotation(const Tensor<1, 3> &axis, const double angle)
+  {
+    return Physics::Transformations::Rotations::rotation_matrix_3d(axis / axis.norm(), angle);
+  }
+
+  struct Motion
+  {
+    std::string  name;
+    Tensor<2, 3> Q;
+    Tensor<1, 3> c;
+  };
+} // namespace
+
+int
+main(int argc, char *argv[])
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const MPI_Comm                   comm = MPI_COMM_WORLD;
+  Report                           report(comm);
+  try
+    {
+      const Point<3>                    lower(0.2, -0.1, 0.3), upper(1.2, 0.7, 0.9);
+      const std::array<unsigned int, 3> cells{{8, 7, 5}}; // spacings 0.125, 0.114, 0.12
+      const double                      horizon = 3.015 * 0.125;
+      const double                      K       = 2.5;
+      const double                      strain  = 1e-3;
+      const double                      f_ref   = K * strain / horizon;
+      const double                      tol     = 1e-10;
+
+      const Tensor<2, 3> I = unit_symmetric_tensor<3>();
+      Tensor<1, 3>       c;
+      c[0] = 0.3, c[1] = -0.7, c[2] = 1.1;
+      Tensor<1, 3> axis, axis_z;
+      axis[0] = 1, axis[1] = -2, axis[2] = 3;
+      axis_z[2] = 1;
+      const std::vector<Motion> motions = {
+        {"translation", I, c},
+        {"rotation 90 deg about z", rotation(axis_z, M_PI / 2), Tensor<1, 3>()},
+        {"rotation 90 deg about (1,-2,3) + translation", rotation(axis, M_PI / 2), c},
+        {"rotation 1e-3 rad about (1,-2,3)", rotation(axis, 1e-3), Tensor<1, 3>()},
+        {"rotation 2.5 rad about (1,-2,3) + translation", rotation(axis, 2.5), c}};
+
+      const std::vector<MaterialSpec> materials = {
+        {"PMB", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}}},
+        {"LPS", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}, {"Shear modulus", "1.1"}}},
+        {"LPS", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}, {"Shear modulus", "1.1"},
+                 {"Influence function", "1/r"}}}};
+
+      for (const auto &spec : materials)
+        {
+          Harness h(comm, lower, upper, cells, horizon, spec);
+          const bool lps = spec.model == "LPS";
+          std::string name = spec.model;
+          if (spec.keys.count("Influence function"))
+            name += " (omega = " + spec.keys.at("Influence function") + ")";
+          report.line(name + ": " + std::to_string(h.cloud.n_global()) + " points, " +
+                      sci(Utilities::MPI::sum(double(h.bonds.n_bonds()), comm), 8) + " bonds");
+          for (const auto &m : motions)
+            {
+              h.set_displacement([&](const Point<3> &x) {
+                return Tensor<1, 3>(m.Q * Tensor<1, 3>(x) + m.c - Tensor<1, 3>(x));
+              });
+              h.evaluate(true);
+              double f_max = 0, theta_max = 0, w_max = 0, u_max = 0;
+              for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
+                {
+                  f_max = std::max(f_max, h.force_of(i).norm());
+                  w_max = std::max(w_max, std::abs(h.energy[i]));
+                  for (unsigned int d = 0; d < 3; ++d)
+                    u_max = std::max(u_max, std::abs(h.u.local_element(3 * i + d)));
+                  if (lps)
+                    theta_max = std::max(theta_max, std::abs(h.field("dilatation", i)));
+                }
+              f_max     = Utilities::MPI::max(f_max, comm);
+              theta_max = Utilities::MPI::max(theta_max, comm);
+              w_max     = Utilities::MPI::max(w_max, comm);
+              u_max     = Utilities::MPI::max(u_max, comm);
+              report.line("  " + m.name + " (max |u| " + sci(u_max, 4) + ")");
+              report.check("    max |f| / (K 1e-3 / horizon)", f_max / f_ref, f_max / f_ref < tol,
+                           "< " + sci(tol));
+              // Energy density of a strain of 1e-3 is ~K 1e-6.
+              report.check("    max |W| / (K 1e-6)", w_max / (K * strain * strain),
+                           w_max / (K * strain * strain) < tol, "< " + sci(tol));
+              if (lps)
+                report.check("    max |dilatation| / 1e-3", theta_max / strain,
+                             theta_max / strain < tol, "< " + sci(tol));
+            }
+        }
+    }
+  catch (const std::exception &e)
+    {
+      std::cerr << "Error: " << e.what() << std::endl;
+      return 2;
+    }
+  return report.finish();
+}

@@ -1,0 +1,62 @@
+# Runs one physics test (cmake -P). Variables (lists separated by '|'):
+#   RUN        the command, e.g. mpirun|-np|2|pd_app|case.prm
+#   WORKDIR    a fresh directory the command runs in
+#   EXPECT     'success' (exit code 0) or 'error' (non-zero exit code)
+#   REGEX      optional: must match stdout + stderr of RUN
+#   CHECK      optional: a second command, run in WORKDIR after RUN; must exit 0
+#   EXPECTED   optional: a stored output; the stdout of CHECK (or of RUN
+#              without CHECK) must match it under numdiff
+#   NUMDIFF, NUMDIFF_ARGS  the numdiff executable and its tolerances
+foreach(var RUN WORKDIR EXPECT)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "run_test.cmake: ${var} is not set")
+  endif()
+endforeach()
+
+file(REMOVE_RECURSE "${WORKDIR}")
+file(MAKE_DIRECTORY "${WORKDIR}")
+
+string(REPLACE "|" ";" run "${RUN}")
+execute_process(COMMAND ${run}
+  WORKING_DIRECTORY "${WORKDIR}"
+  OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
+file(WRITE "${WORKDIR}/run.stdout" "${out}")
+file(WRITE "${WORKDIR}/run.stderr" "${err}")
+message("---- ${RUN}\n${out}")
+if(err)
+  message("---- stderr\n${err}")
+endif()
+message("---- exit code ${rc}")
+
+if(EXPECT STREQUAL "success" AND NOT rc EQUAL 0)
+  message(FATAL_ERROR "expected success, got exit code ${rc}")
+elseif(EXPECT STREQUAL "error" AND (rc EQUAL 0 OR NOT rc MATCHES "^[0-9]+$"))
+  message(FATAL_ERROR "expected an error exit code, got '${rc}'")
+endif()
+if(DEFINED REGEX AND NOT "${out}${err}" MATCHES "${REGEX}")
+  message(FATAL_ERROR "the output does not match '${REGEX}'")
+endif()
+
+set(compared "${out}")
+if(DEFINED CHECK)
+  string(REPLACE "|" ";" check "${CHECK}")
+  execute_process(COMMAND ${check}
+    WORKING_DIRECTORY "${WORKDIR}"
+    OUTPUT_VARIABLE check_out ERROR_VARIABLE check_err RESULT_VARIABLE check_rc)
+  message("---- ${CHECK}\n${check_out}${check_err}")
+  if(NOT check_rc EQUAL 0)
+    message(FATAL_ERROR "the check failed (exit code ${check_rc})")
+  endif()
+  set(compared "${check_out}")
+endif()
+
+if(DEFINED EXPECTED)
+  file(WRITE "${WORKDIR}/output" "${compared}")
+  string(REPLACE "|" ";" numdiff_args "${NUMDIFF_ARGS}")
+  execute_process(COMMAND "${NUMDIFF}" ${numdiff_args} "${EXPECTED}" "${WORKDIR}/output"
+    OUTPUT_VARIABLE diff_out RESULT_VARIABLE diff_rc)
+  if(NOT diff_rc EQUAL 0)
+    message(FATAL_ERROR "numdiff ${NUMDIFF_ARGS}: ${WORKDIR}/output differs from ${EXPECTED}\n${diff_out}")
+  endif()
+  message("---- numdiff ${NUMDIFF_ARGS} against ${EXPECTED}: equal")
+endif()
