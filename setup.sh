@@ -33,7 +33,10 @@ usage() {
 install_missing() {
   local missing=() p
   for p in "${packages[@]}"; do
-    dpkg -s "$p" 2>/dev/null | grep -q '^Status: install ok installed' || missing+=("$p")
+    # grep reads all of dpkg's output (no -q): an early exit would give dpkg
+    # a SIGPIPE, which pipefail would take for a missing package.
+    dpkg -s "$p" 2>/dev/null | grep '^Status: install ok installed' >/dev/null ||
+      missing+=("$p")
   done
   if [[ ${#missing[@]} -eq 0 ]]; then
     echo "setup.sh: all packages installed"

@@ -5,7 +5,9 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <chrono>
 #include <iostream>
+#include <thread>
 #include <regex>
 #include <sstream>
 
@@ -21,6 +23,37 @@ namespace
     "  --print-parameters-markdown  the same as the Markdown page doc/parameters.md\n"
     "  --dry-run params.prm         set up, print points, bonds, memory estimate and the\n"
     "                               stable time step, and exit without time stepping\n";
+
+  // Every rank that catches an error comes here. Checks of user input are
+  // collective, so normally all ranks arrive and rank 0 alone reports. An
+  // error raised on some ranks only would leave the others waiting in a
+  // collective call: if not all ranks arrive within a few seconds, each rank
+  // that has an error reports it and the whole run is aborted.
+  int
+  report_error(const std::string &message, const MPI_Comm comm)
+  {
+    const bool  root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    MPI_Request request;
+    MPI_Ibarrier(comm, &request);
+    int        all_arrived = 0;
+    const auto start       = std::chrono::steady_clock::now();
+    while (!all_arrived &&
+           std::chrono::steady_clock::now() - start < std::chrono::seconds(5))
+      {
+        MPI_Test(&request, &all_arrived, MPI_STATUS_IGNORE);
+        if (!all_arrived)
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+    if (all_arrived)
+      {
+        if (root)
+          std::cerr << "Error: " << message << std::endl;
+        return 1;
+      }
+    std::cerr << "Error: " << message << std::endl;
+    MPI_Abort(comm, 1);
+    return 1;
+  }
 
   std::string
   one_line(const std::string &text)
@@ -90,15 +123,11 @@ main(int argc, char *argv[])
     {
       std::ostringstream info;
       e.print_info(info);
-      if (root)
-        std::cerr << "Error: " << one_line(info.str()) << std::endl;
-      return 1;
+      return report_error(one_line(info.str()), comm);
     }
   catch (const std::exception &e)
     {
-      if (root)
-        std::cerr << "Error: " << one_line(e.what()) << std::endl;
-      return 1;
+      return report_error(one_line(e.what()), comm);
     }
   return 0;
 }

@@ -1,41 +1,53 @@
 #!/bin/bash
 # cube-explicit benchmark: PeriDeal and LAMMPS (PERI package) side by side.
 #
-# Scene (see doc/performance.md): n^3 points on [0,1]^3 (box cells, centroids at
+# Scene (doc/performance.md): n^3 points on [0,1]^3 (box cells, centroids at
 # (i+1/2)h, h = 1/n), horizon 3.015 h, density 1; PMB K = 1; LPS K = 1, G = 0.6;
 # initial velocity vamp*(x-0.5, y-0.5, z-0.5); velocity Verlet with the fixed
 # dt = 0.3560630338 h; 200 steps; no field output.
 #   elastic     critical stretch 1.0,   vamp 0.01 (no bond breaks)
 #   elastic-nd  as elastic, but PeriDeal runs without a damage model (LAMMPS
-#               cannot switch its bond-break check off, it runs 'elastic')
+#               cannot switch its bond-break check off: it runs 'elastic')
 #   dmg         critical stretch 0.005, vamp 0.02 (bonds break)
 #
 # Every case runs PeriDeal, then LAMMPS right after it (interleaved), so that
-# both see the same machine load; compare the ratios, not absolute times.
+# both see about the same machine load; compare ratios, not absolute times.
 #
 # usage: bench/cube_explicit.sh [options]
-#   -m, --models LIST     pmb lps                      (default: "pmb lps")
-#   -v, --variants LIST   elastic elastic-nd dmg       (default: "elastic dmg")
-#   -n, --sizes LIST      points per edge              (default: "20 40 60")
-#   -r, --ranks LIST      MPI ranks                    (default: "1 2")
-#   -R, --reps N          repetitions of every case    (default: 1)
-#   -c, --codes LIST      perideal lammps              (default: both)
-#       --pd-app PATH     PeriDeal executable          (default: build/pd_app)
-#       --steps N         time steps                   (default: 200)
-#       --globals-freq F  PeriDeal Output/Frequency: 200 writes the globals CSV
-#                         (kinetic energy, damage) at steps 0 and 200 only, no
-#                         field files; 0 writes nothing    (default: 200)
-#       --no-physics      skip the separate n=20 physics check (PeriDeal with the
-#                         Damage field, for the mean damage; LAMMPS n=20 1 rank)
-#   -o, --out DIR         results directory   (default: bench/results/<date-time>)
-#       --summarize DIR   only print the tables of an earlier results directory
+#   -m, --models LIST      pmb lps                      (default: "pmb lps")
+#   -v, --variants LIST    elastic elastic-nd dmg       (default: "elastic dmg")
+#   -n, --sizes LIST       points per edge              (default: "20 40 60")
+#   -r, --ranks LIST       MPI ranks                    (default: "1 2")
+#   -R, --reps N           repetitions of every case    (default: 1)
+#   -c, --codes LIST       perideal lammps              (default: both)
+#       --pd-app PATH      PeriDeal executable          (default: build/pd_app)
+#       --steps N          time steps                   (default: 200)
+#       --globals-freq F   PeriDeal Output/Frequency: 200 writes the globals CSV
+#                          (kinetic energy, damage) at steps 0 and 200 only, no
+#                          field files; 0 writes nothing    (default: 200)
+#       --lps-influence E  PeriDeal LPS influence function in the timed runs: a
+#                          muparser expression in r = |xi|/horizon, or 'lammps'
+#                          for what LAMMPS uses in effect (1/|xi| times its
+#                          partial-volume factor near the horizon)  (default: 1)
+#       --no-physics       skip the physics check (n = 20, 1 rank, both codes,
+#                          kinetic energy every 50 steps; PeriDeal's mean damage
+#                          from its Damage field; LPS also with 'lammps' influence)
+#   -o, --out DIR          results directory   (default: bench/results/<date-time>)
+#       --summarize DIR    only print the tables of an earlier results directory
 #   -h, --help
-# Lists may be separated by spaces or commas.  Example (quick, about a minute):
-#   bench/cube_explicit.sh -n 20 -v elastic -r 1,2 --pd-app build-bench/pd_app
+# Lists may be separated by spaces or commas.  A quick run (a few minutes):
+#   bench/cube_explicit.sh -n 20 -v elastic --pd-app build-bench/pd_app
 #
-# Output: one line per run while running, then markdown tables (also written
-# to DIR/table.md); the raw numbers are in DIR/results.tsv, the logs per run in
+# Output: a line per run while running, then markdown tables (also in
+# DIR/table.md); raw numbers in DIR/results.tsv, logs and parameter files in
 # DIR/<code>_<model>_<variant>_n<n>_np<ranks>_r<rep>/.
+#
+# Measures: loop time (PeriDeal: bonds x steps / its printed bond-update rate;
+# LAMMPS: 'Loop time' of the timed run), bond updates per second = directed
+# bonds x steps / loop time, peak memory = sum over ranks of the maximum RSS
+# (PeriDeal: its summary; LAMMPS: /usr/bin/time -v per rank), and the CPU share
+# a run got (LAMMPS: its '% CPU use' of the loop; PeriDeal: user+sys over
+# elapsed of the whole process, per rank) because the machine may be shared.
 set -u -o pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -51,6 +63,7 @@ PD_APP="$root/build/pd_app"
 STEPS=200
 FREQ=200
 PHYSICS=1
+LPS_INFLUENCE=1
 OUT=""
 SUMMARIZE=""
 
@@ -59,19 +72,20 @@ list() { echo "$1" | tr ',' ' '; }
 
 while [ $# -gt 0 ]; do
   case "$1" in
-    -m|--models)    MODELS=$(list "$2"); shift 2;;
-    -v|--variants)  VARIANTS=$(list "$2"); shift 2;;
-    -n|--sizes)     SIZES=$(list "$2"); shift 2;;
-    -r|--ranks)     RANKS=$(list "$2"); shift 2;;
-    -R|--reps)      REPS=$2; shift 2;;
-    -c|--codes)     CODES=$(list "$2"); shift 2;;
-    --pd-app)       PD_APP=$2; shift 2;;
-    --steps)        STEPS=$2; shift 2;;
-    --globals-freq) FREQ=$2; shift 2;;
-    --no-physics)   PHYSICS=0; shift;;
-    -o|--out)       OUT=$2; shift 2;;
-    --summarize)    SUMMARIZE=$2; shift 2;;
-    -h|--help)      usage; exit 0;;
+    -m|--models)     MODELS=$(list "$2"); shift 2;;
+    -v|--variants)   VARIANTS=$(list "$2"); shift 2;;
+    -n|--sizes)      SIZES=$(list "$2"); shift 2;;
+    -r|--ranks)      RANKS=$(list "$2"); shift 2;;
+    -R|--reps)       REPS=$2; shift 2;;
+    -c|--codes)      CODES=$(list "$2"); shift 2;;
+    --pd-app)        PD_APP=$2; shift 2;;
+    --steps)         STEPS=$2; shift 2;;
+    --globals-freq)  FREQ=$2; shift 2;;
+    --lps-influence) LPS_INFLUENCE=$2; shift 2;;
+    --no-physics)    PHYSICS=0; shift;;
+    -o|--out)        OUT=$2; shift 2;;
+    --summarize)     SUMMARIZE=$2; shift 2;;
+    -h|--help)       usage; exit 0;;
     *) echo "Error: unknown option '$1' (see --help)" >&2; exit 2;;
   esac
 done
@@ -81,6 +95,13 @@ for v in $VARIANTS; do case $v in elastic|elastic-nd|dmg) ;; *) echo "Error: unk
 for c in $CODES; do case $c in perideal|lammps) ;; *) echo "Error: unknown code '$c'" >&2; exit 2;; esac; done
 
 has() { case " $2 " in *" $1 "*) return 0;; *) return 1;; esac; }
+
+# LAMMPS' peri/lps in effect: omega = 1/|xi| (any constant factor cancels in
+# LPS), times vfrac_scale = 3.515 - |xi|/h for ||xi| - delta| <= h/2, applied in
+# the weighted volume, the dilatation and the force alike; with delta = 3.015 h
+# and r = |xi|/delta this is:
+LAMMPS_INFLUENCE='(abs(3.015*r-3.015) <= 0.5 ? 3.515-3.015*r : 1)/r'
+[ "$LPS_INFLUENCE" = lammps ] && LPS_INFLUENCE=$LAMMPS_INFLUENCE
 
 # ------------------------------------------------------------------ helpers
 
@@ -106,11 +127,10 @@ variant_params() { # -> "s_c vamp"
 }
 
 # PeriDeal parameter file of one case.
-write_prm() { # model variant n file [output variables]
-  local model=$1 var=$2 n=$3 file=$4 vars=${5:-}
-  local sc vamp
+write_prm() { # model variant n file output-frequency output-variables lps-influence
+  local model=$1 var=$2 n=$3 file=$4 freq=$5 vars=$6 influence=$7
+  local sc vamp horizon dt
   read -r sc vamp <<< "$(variant_params "$var")"
-  local h horizon dt
   horizon=$(awk -v n="$n" 'BEGIN { printf "%.15g", 3.015 / n }')
   dt=$(awk -v n="$n" 'BEGIN { printf "%.15g", 0.3560630338 / n }')
   {
@@ -132,6 +152,7 @@ write_prm() { # model variant n file [output variables]
     else
       echo "    set Model = LPS"
       echo "    set Shear modulus = 0.6"
+      echo "    set Influence function = $influence"
     fi
     echo "    set Density = 1"
     echo "    set Bulk modulus = 1"
@@ -173,7 +194,7 @@ write_prm() { # model variant n file [output variables]
     echo "subsection Output"
     echo "  set Directory = output"
     echo "  set Base name = cube"
-    echo "  set Frequency = $FREQ"
+    echo "  set Frequency = $freq"
     echo "  set Variables = $vars"
     echo "  set Write globals = true"
     echo "end"
@@ -198,22 +219,29 @@ pd_timer() {
     END { if (!found) print 0 }' "$1"
 }
 
-# "ke0 ke_end pe_end dave dmax" of the last LAMMPS run in a log (raw LAMMPS units).
-lmp_thermo() {
-  awk -v steps="$2" '
-    /^ *Step / { blk++; delete row; inb = 1; next }
-    /^Loop time/ { inb = 0; next }
-    inb && $1 ~ /^[0-9]+$/ { row[$1] = $3 " " $4 " " $5 " " $6 }
-    END { split(row[0], a, " "); split(row[steps], b, " ");
-          if (!(0 in row) || !(steps in row)) { print "- - - - -"; exit }
-          print a[1], b[1], b[2], b[3], b[4] }' "$1"
+# "step ke pe dave dmax" lines of the last LAMMPS run in a log (raw LAMMPS units).
+lmp_thermo_rows() {
+  awk '/^ *Step / { delete row; n = 0; inb = 1; next }
+       /^Loop time/ { inb = 0; next }
+       inb && $1 ~ /^[0-9]+$/ { row[++n] = $1 " " $3 " " $4 " " $5 " " $6 }
+       END { for (i = 1; i <= n; i++) print row[i] }' "$1"
+}
+
+# Average over ranks of the CPU share (user+sys)/elapsed, in percent, and the
+# sum over ranks of the maximum RSS in MiB, from /usr/bin/time -v files.
+time_files() { # files...
+  awk -F': ' '
+    /User time/ { u += $2 } /System time/ { s += $2 }
+    /Elapsed \(wall clock\)/ { k = split($2, p, ":"); e = 0; for (i = 1; i <= k; i++) e = e * 60 + p[i]; el += e; nf++ }
+    /Maximum resident set size/ { rss += $2 }
+    END { if (nf == 0 || el == 0) print "- -"; else printf "%.0f %.1f\n", 100 * (u + s) / el, rss / 1024 }' "$@"
 }
 
 loadavg() { cut -d' ' -f1 /proc/loadavg; }
 
 # ---------------------------------------------------------------- summary
 
-COLS="code model variant n ranks rep status loop_s bonds updates peak_mib ke0 ke_end se_end broken dmax dave t_force t_damage t_ghost t_integ t_output load1"
+COLS="code model variant n ranks rep status loop_s bonds updates peak_mib ke0 ke_end se_end broken dmax dave t_force t_damage t_ghost t_integ t_output cpu_pct load1"
 
 summarize() { # results.tsv
   awk -F'\t' -v steps="$STEPS" '
@@ -222,14 +250,25 @@ summarize() { # results.tsv
       for (i = 2; i <= k; i++) { t = a[i] + 0; for (j = i - 1; j >= 1 && a[j] + 0 > t; j--) a[j+1] = a[j]; a[j+1] = t }
       return (k % 2) ? a[(k+1)/2] : (a[k/2] + a[k/2+1]) / 2
     }
-    function add(arr, key, v) { arr[key] = (key in arr) ? arr[key] "," v : v }
+    # (mawk creates arr[key] before it evaluates the right-hand side)
+    function add(arr, key, v,   had) { had = (key in arr); if (had) arr[key] = arr[key] "," v; else arr[key] = v }
     function fmt(x, f) { return (x == "" || x == "-") ? "-" : sprintf(f, x) }
+    function name(c) { return c == "perideal" ? "PeriDeal" : "LAMMPS" }
+    # The LAMMPS run a PeriDeal case compares with: the same case; for
+    # elastic-nd, LAMMPS runs elastic, so an elastic run serves if needed.
+    function peer(m, v, n, r,   k) {
+      k = "lammps" SUBSEP m SUBSEP v SUBSEP n SUBSEP r
+      if (!(k in U) && v == "elastic-nd") k = "lammps" SUBSEP m SUBSEP "elastic" SUBSEP n SUBSEP r
+      return k
+    }
     NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     $c["status"] != "ok" { failed[$c["code"] " " $c["model"] " " $c["variant"] " n=" $c["n"] " np=" $c["ranks"] " rep " $c["rep"] ": " $c["status"]] = 1; next }
     {
       key = $c["code"] SUBSEP $c["model"] SUBSEP $c["variant"] SUBSEP $c["n"] SUBSEP $c["ranks"]
       if (!(key in seen)) { seen[key] = 1; order[++nk] = key }
       add(loops, key, $c["loop_s"]); add(mems, key, $c["peak_mib"]); reps[key]++
+      add(cpus, key, ($c["cpu_pct"] == "-" ? 100 : $c["cpu_pct"]))
+      add(loads, key, $c["load1"])
       bonds[key] = $c["bonds"]
       ke0[key] = $c["ke0"]; ke[key] = $c["ke_end"]; se[key] = $c["se_end"]
       br[key] = $c["broken"]; dmax[key] = $c["dmax"]; dave[key] = $c["dave"]
@@ -237,7 +276,7 @@ summarize() { # results.tsv
       add(ti, key, $c["t_integ"]); add(to, key, $c["t_output"])
     }
     END {
-      # sort: model, variant, n, ranks, code (perideal first)
+      # order: model, variant, n, ranks, code (PeriDeal first)
       for (i = 1; i <= nk; i++) {
         split(order[i], f, SUBSEP)
         sk[i] = sprintf("%s %s %06d %03d %s", f[2], f[3], f[4], f[5], f[1] == "perideal" ? "a" : "b")
@@ -245,58 +284,31 @@ summarize() { # results.tsv
       for (i = 2; i <= nk; i++) { t = order[i]; u = sk[i]; for (j = i - 1; j >= 1 && sk[j] > u; j--) { order[j+1] = order[j]; sk[j+1] = sk[j] } order[j+1] = t; sk[j+1] = u }
       for (i = 1; i <= nk; i++) {
         key = order[i]; L[key] = median(loops[key]); U[key] = bonds[key] * steps / L[key]; M[key] = median(mems[key])
+        C[key] = median(cpus[key]); UC[key] = U[key] / (C[key] / 100)
       }
       print "### Performance (median over repetitions)"
       print ""
-      print "| code | model | variant | n | ranks | reps | loop [s] | bond updates/s | per core | peak mem [MiB] | bytes/bond | PeriDeal/LAMMPS per core | 2-rank efficiency |"
-      print "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+      print "Ratio = PeriDeal/LAMMPS bond updates per second per core (same case, same ranks); efficiency = updates/s on 2 ranks / (2 x on 1 rank). CPU = CPU share the run got (100% = a whole core per rank); the \"per CPU-s\" columns divide by it, an estimate for an idle machine."
+      print ""
+      print "| code | model | variant | n | ranks | reps | loop [s] | bond updates/s | per core | peak mem [MiB] | bytes/bond | ratio | 2-rank eff. | CPU | per CPU-s per core | ratio per CPU-s | eff. per CPU-s | load |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
       for (i = 1; i <= nk; i++) {
         key = order[i]; split(key, f, SUBSEP)
-        other = (f[1] == "perideal" ? "lammps" : "perideal") SUBSEP f[2] SUBSEP f[3] SUBSEP f[4] SUBSEP f[5]
-        ratio = "-"
-        if (f[1] == "perideal" && (other in U)) ratio = sprintf("%.2f", U[key] / U[other])
-        eff = "-"
+        other = peer(f[2], f[3], f[4], f[5])
+        ratio = "-"; ratioc = "-"
+        if (f[1] == "perideal" && (other in U)) { ratio = sprintf("%.2f", U[key] / U[other]); ratioc = sprintf("%.2f", UC[key] / UC[other]) }
+        eff = "-"; effc = "-"
         one = f[1] SUBSEP f[2] SUBSEP f[3] SUBSEP f[4] SUBSEP 1
-        if (f[5] == 2 && (one in U)) eff = sprintf("%.0f%%", 100 * U[key] / (2 * U[one]))
-        printf "| %s | %s | %s | %d | %d | %d | %.3f | %.1f M | %.1f M | %.0f | %.1f | %s | %s |\n",
-          (f[1] == "perideal" ? "PeriDeal" : "LAMMPS"), toupper(f[2]), f[3], f[4], f[5], reps[key], L[key],
-          U[key] / 1e6, U[key] / 1e6 / f[5], M[key], M[key] * 1048576 / bonds[key], ratio, eff
+        if (f[5] == 2 && (one in U)) { eff = sprintf("%.0f%%", 100 * U[key] / (2 * U[one])); effc = sprintf("%.0f%%", 100 * UC[key] / (2 * UC[one])) }
+        printf "| %s | %s | %s | %d | %d | %d | %.3f | %.1f M | %.1f M | %.0f | %.1f | %s | %s | %.0f%% | %.1f M | %s | %s | %s |\n",
+          name(f[1]), toupper(f[2]), f[3], f[4], f[5], reps[key], L[key],
+          U[key] / 1e6, U[key] / 1e6 / f[5], M[key], M[key] * 1048576 / bonds[key], ratio, eff,
+          C[key], UC[key] / 1e6 / f[5], ratioc, effc, median(loads[key])
       }
       print ""
-      print "### Physics at step " steps " (kinetic energy in PeriDeal units: LAMMPS ke x h^3)"
+      print "### Targets (PeriDeal; wall clock, and in brackets per CPU-second)"
       print ""
-      print "| model | variant | n | ranks | KE(0) PeriDeal | KE(0) LAMMPS | KE(" steps ") PeriDeal | KE(" steps ") LAMMPS | PeriDeal/LAMMPS | max damage PeriDeal / LAMMPS | broken bonds PeriDeal (fraction) | mean damage LAMMPS |"
-      print "|---|---|---|---|---|---|---|---|---|---|---|---|"
-      for (i = 1; i <= nk; i++) {
-        key = order[i]; split(key, f, SUBSEP)
-        if (f[1] != "perideal") continue
-        other = "lammps" SUBSEP f[2] SUBSEP f[3] SUBSEP f[4] SUBSEP f[5]
-        has = (other in U)
-        r = (has && ke[other] + 0 > 0 && ke[key] != "-") ? sprintf("%.4f", ke[key] / ke[other]) : "-"
-        frac = (br[key] == "-") ? "-" : sprintf("%.0f (%.4f)", br[key], br[key] / (bonds[key] / 2))
-        printf "| %s | %s | %d | %d | %s | %s | %s | %s | %s | %s / %s | %s | %s |\n",
-          toupper(f[2]), f[3], f[4], f[5], fmt(ke0[key], "%.6g"), has ? fmt(ke0[other], "%.6g") : "-",
-          fmt(ke[key], "%.6g"), has ? fmt(ke[other], "%.6g") : "-", r,
-          fmt(dmax[key], "%.4f"), has ? fmt(dmax[other], "%.4f") : "-", frac, has ? fmt(dave[other], "%.4f") : "-"
-      }
-      print ""
-      print "### Where PeriDeal spends the time loop (TimerOutput, rank 0, median; seconds and share of the loop)"
-      print ""
-      print "| model | variant | n | ranks | loop [s] | force | damage | ghost exchange | time integration | output | rest |"
-      print "|---|---|---|---|---|---|---|---|---|---|---|"
-      for (i = 1; i <= nk; i++) {
-        key = order[i]; split(key, f, SUBSEP)
-        if (f[1] != "perideal") continue
-        a = median(tf[key]); b = median(td[key]); g = median(tg[key]); t = median(ti[key]); o = median(to[key])
-        rest = L[key] - a - b - g - t - o
-        printf "| %s | %s | %d | %d | %.3f | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) |\n",
-          toupper(f[2]), f[3], f[4], f[5], L[key], a, 100*a/L[key], b, 100*b/L[key], g, 100*g/L[key],
-          t, 100*t/L[key], o, 100*o/L[key], rest, 100*rest/L[key]
-      }
-      print ""
-      print "### Targets (PeriDeal)"
-      print ""
-      print "| model | variant | n | PeriDeal/LAMMPS per core, 1 rank (>= 2) | 2 ranks (>= 2) | bytes/bond 1 rank (<= 24) | 2-rank efficiency (>= 90%) | LAMMPS 2-rank efficiency |"
+      print "| model | variant | n | ratio per core, 1 rank (>= 2) | ratio per core, 2 ranks (>= 2) | bytes/bond, 1 rank (<= 24) | 2-rank efficiency (>= 90%) | LAMMPS 2-rank efficiency |"
       print "|---|---|---|---|---|---|---|---|"
       for (i = 1; i <= nk; i++) {
         key = order[i]; split(key, f, SUBSEP)
@@ -305,13 +317,45 @@ summarize() { # results.tsv
         if (base in done) continue
         done[base] = 1
         p1 = "perideal" SUBSEP base SUBSEP 1; p2 = "perideal" SUBSEP base SUBSEP 2
-        l1 = "lammps" SUBSEP base SUBSEP 1;   l2 = "lammps" SUBSEP base SUBSEP 2
-        r1 = (p1 in U && l1 in U) ? sprintf("%.2f %s", U[p1] / U[l1], U[p1] / U[l1] >= 2 ? "yes" : "**no**") : "-"
-        r2 = (p2 in U && l2 in U) ? sprintf("%.2f %s", U[p2] / U[l2], U[p2] / U[l2] >= 2 ? "yes" : "**no**") : "-"
-        bb = (p1 in U) ? sprintf("%.1f %s", M[p1] * 1048576 / bonds[p1], M[p1] * 1048576 / bonds[p1] <= 24 ? "yes" : "**no**") : "-"
-        e = (p1 in U && p2 in U) ? sprintf("%.0f%% %s", 100 * U[p2] / (2 * U[p1]), U[p2] / (2 * U[p1]) >= 0.9 ? "yes" : "**no**") : "-"
-        le = (l1 in U && l2 in U) ? sprintf("%.0f%%", 100 * U[l2] / (2 * U[l1])) : "-"
+        l1 = peer(f[2], f[3], f[4], 1);       l2 = peer(f[2], f[3], f[4], 2)
+        r1 = ((p1 in U) && (l1 in U)) ? sprintf("%.2f (%.2f) %s", U[p1] / U[l1], UC[p1] / UC[l1], U[p1] / U[l1] >= 2 ? "met" : "**not met**") : "-"
+        r2 = ((p2 in U) && (l2 in U)) ? sprintf("%.2f (%.2f) %s", U[p2] / U[l2], UC[p2] / UC[l2], U[p2] / U[l2] >= 2 ? "met" : "**not met**") : "-"
+        bb = (p1 in U) ? sprintf("%.1f %s", M[p1] * 1048576 / bonds[p1], M[p1] * 1048576 / bonds[p1] <= 24 ? "met" : "**not met**") : "-"
+        e  = ((p1 in U) && (p2 in U)) ? sprintf("%.0f%% (%.0f%%) %s", 100 * U[p2] / (2 * U[p1]), 100 * UC[p2] / (2 * UC[p1]), U[p2] / (2 * U[p1]) >= 0.9 ? "met" : "**not met**") : "-"
+        le = ((l1 in U) && (l2 in U)) ? sprintf("%.0f%% (%.0f%%)", 100 * U[l2] / (2 * U[l1]), 100 * UC[l2] / (2 * UC[l1])) : "-"
         printf "| %s | %s | %d | %s | %s | %s | %s | %s |\n", toupper(f[2]), f[3], f[4], r1, r2, bb, e, le
+      }
+      print ""
+      print "### Where PeriDeal spends the time loop (TimerOutput of rank 0, median; seconds and share of the loop)"
+      print ""
+      print "| model | variant | n | ranks | loop [s] | force | damage | ghost exchange | time integration | output | rest of the loop |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|"
+      for (i = 1; i <= nk; i++) {
+        key = order[i]; split(key, f, SUBSEP)
+        if (f[1] != "perideal") continue
+        a = median(tf[key]); b = median(td[key]); g = median(tg[key]); t = median(ti[key]); o = median(to[key])
+        rest = L[key] - a - b - g - t - o
+        printf "| %s | %s | %d | %d | %.3f | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.4f (%.2f%%) | %.3f (%.0f%%) |\n",
+          toupper(f[2]), f[3], f[4], f[5], L[key], a, 100*a/L[key], b, 100*b/L[key], g, 100*g/L[key],
+          t, 100*t/L[key], o, 100*o/L[key], rest, 100*rest/L[key]
+      }
+      print ""
+      print "### Physics at step " steps " of the timed runs (energies in PeriDeal units: LAMMPS ke, pe x h^3)"
+      print ""
+      print "| model | variant | n | ranks | KE(0) PeriDeal | KE(0) LAMMPS | KE(" steps ") PeriDeal | KE(" steps ") LAMMPS | PeriDeal/LAMMPS | KE+SE(" steps ")/KE(0) PeriDeal | max damage PeriDeal / LAMMPS | broken bonds PeriDeal (fraction) | mean damage LAMMPS |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+      for (i = 1; i <= nk; i++) {
+        key = order[i]; split(key, f, SUBSEP)
+        if (f[1] != "perideal") continue
+        other = peer(f[2], f[3], f[4], f[5])
+        h = (other in U)
+        r = (h && ke[other] != "-" && ke[other] + 0 > 0 && ke[key] != "-") ? sprintf("%.4f", ke[key] / ke[other]) : "-"
+        tot = (ke[key] != "-" && ke0[key] + 0 > 0) ? sprintf("%.5f", (ke[key] + se[key]) / ke0[key]) : "-"
+        frac = (br[key] == "-") ? "-" : sprintf("%.0f (%.4f)", br[key], br[key] / (bonds[key] / 2))
+        printf "| %s | %s | %d | %d | %s | %s | %s | %s | %s | %s | %s / %s | %s | %s |\n",
+          toupper(f[2]), f[3], f[4], f[5], fmt(ke0[key], "%.6g"), h ? fmt(ke0[other], "%.6g") : "-",
+          fmt(ke[key], "%.6g"), h ? fmt(ke[other], "%.6g") : "-", r, tot,
+          fmt(dmax[key], "%.4f"), h ? fmt(dmax[other], "%.4f") : "-", frac, h ? fmt(dave[other], "%.4f") : "-"
       }
       nf = 0; for (k in failed) nf++
       if (nf) { print ""; print "Failed runs:"; for (k in failed) print "- " k }
@@ -319,29 +363,27 @@ summarize() { # results.tsv
 }
 
 # Mean point damage of a PeriDeal run from its Damage field (the .vtu pieces of
-# the last step); deal.II writes cell data as point data of 8 equal vertices,
-# which leaves the mean unchanged.
+# the last step). deal.II writes cell data as point data (8 equal vertex values
+# per cell), which leaves the mean unchanged.
 pd_mean_damage() { # output dir
   python3 - "$1" <<'EOF' 2>/dev/null || echo -
 import base64, glob, re, struct, sys, zlib
 d = sys.argv[1]
-steps = sorted(set(re.sub(r'\.\d+\.vtu$', '', f) for f in glob.glob(d + '/cube_*.vtu')))
+stems = sorted(set(re.sub(r'\.\d+\.vtu$', '', f) for f in glob.glob(d + '/cube_*.vtu')))
 total = count = 0.0
-for f in glob.glob(steps[-1] + '.*.vtu'):
+for f in glob.glob(stems[-1] + '.*.vtu'):
     text = open(f).read()
-    m = re.search(r'<DataArray[^>]*Name="Damage"[^>]*>\s*([^<]*)<', text)
-    head = m.group(0)
-    raw = m.group(1).strip()
+    m = re.search(r'(<DataArray[^>]*Name="Damage"[^>]*>)\s*([^<]*)<', text)
+    head, raw = m.group(1), m.group(2).strip()
     fmt = 'f' if 'Float32' in head else 'd'
     if 'format="binary"' in head:
-        h = base64.b64decode(raw[:24])                    # 4 uint32: blocks, block size, last size, compressed size
-        nb, bs, last, *sizes = struct.unpack('<4I', h[:16])
-        hdr_len = 4 * (3 + nb)
-        hdr_chars = ((hdr_len + 2) // 3) * 4
-        h = base64.b64decode(raw[:hdr_chars])
-        nb, bs, last = struct.unpack('<3I', h[:12])
+        # zlib-compressed base64 blocks; the header (uint32: blocks, block size,
+        # last block size, compressed sizes) is encoded on its own
+        nb = struct.unpack('<I', base64.b64decode(raw[:8])[:4])[0]
+        hlen = ((4 * (3 + nb) + 2) // 3) * 4
+        h = base64.b64decode(raw[:hlen])
         sizes = struct.unpack('<%dI' % nb, h[12:12 + 4 * nb])
-        data = base64.b64decode(raw[hdr_chars:])
+        data = base64.b64decode(raw[hlen:])
         out = b''; pos = 0
         for s in sizes:
             out += zlib.decompress(data[pos:pos + s]); pos += s
@@ -353,22 +395,59 @@ print('%.6g' % (total / count))
 EOF
 }
 
-physics_check() { # one PeriDeal run per model x dmg variant at n=20 on 1 rank, with the Damage field
-  local out=$1
-  local m v dir line any=0
+# Physics check: n = 20, 1 rank, both codes; kinetic energy every 50 steps, and
+# for dmg the damage. LPS runs twice in PeriDeal: with the influence function of
+# the timed runs and with LAMMPS' effective one.
+physics_check() { # out dir
+  local out=$1 m v setups s infl dir lmpdir sc vamp
+  local md="$out/physics.md"
+  {
+    echo "### Physics check: n = 20, 1 rank, kinetic energy at steps 0, 50, ..., $STEPS (PeriDeal units)"
+    echo
+    echo "PeriDeal's LPS influence \"1\" (its default) and \"lammps\" = $LAMMPS_INFLUENCE (LAMMPS' 1/|xi| with its partial-volume factor)."
+    echo
+    echo "| model | variant | PeriDeal setup | max rel. KE difference | KE($STEPS) PeriDeal | KE($STEPS) LAMMPS | (KE+SE)($STEPS)/KE(0) PeriDeal | (KE+PE)($STEPS)/KE(0) LAMMPS | mean damage PeriDeal / LAMMPS | max damage PeriDeal / LAMMPS |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
+  } > "$md"
   for m in $MODELS; do
     for v in $VARIANTS; do
-      [ "$v" = dmg ] || continue
-      any=1
-      dir="$out/physics_${m}_${v}_n20"
-      mkdir -p "$dir"
-      FREQ=$STEPS write_prm "$m" "$v" 20 "$dir/pd.prm" "Damage"
-      (cd "$dir" && mpirun -np 1 --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
-      line="| ${m^^} | $v | 20 | 1 | $(pd_mean_damage "$dir/output") |"
-      echo "$line" >> "$out/physics.md"
+      read -r sc vamp <<< "$(variant_params "$v")"
+      lmpdir="$out/physics_lammps_${m}_${v}"
+      if [ ! -s "$lmpdir/lmp.log" ]; then
+        mkdir -p "$lmpdir"
+        (cd "$lmpdir" && lmp -in "$here/lammps/in.cube_$m" -var n 20 -var s00 "$sc" -var vamp "$vamp" \
+           -var nsteps "$STEPS" -log lmp.log -screen none > lmp.out 2>&1)
+      fi
+      lmp_thermo_rows "$lmpdir/lmp.log" | awk '{ V = 1 / 8000; print $1, $2 * V, $3 * V, $4, $5 }' > "$lmpdir/thermo.txt"
+      if [ "$m" = lps ]; then setups="default lammps"; else setups="default"; fi
+      [ "$m" = lps ] && [ "$LPS_INFLUENCE" != 1 ] && setups="timed lammps"
+      for s in $setups; do
+        case $s in
+          default) infl=1;;
+          timed)   infl=$LPS_INFLUENCE;;
+          lammps)  infl=$LAMMPS_INFLUENCE;;
+        esac
+        dir="$out/physics_perideal_${m}_${v}_${s}"
+        mkdir -p "$dir"
+        local vars=""; [ "$v" = dmg ] && vars="Damage"
+        write_prm "$m" "$v" 20 "$dir/pd.prm" 50 "$vars" "$infl"
+        (cd "$dir" && mpirun -np 1 --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
+        local mean="-"; [ "$v" = dmg ] && mean=$(pd_mean_damage "$dir/output")
+        local label="-"; [ "$m" = lps ] && label="influence $([ "$s" = lammps ] && echo lammps || echo "$infl")"
+        awk -F, -v th="$lmpdir/thermo.txt" -v m="${m^^}" -v v="$v" -v s="$label" -v mean="$mean" -v steps="$STEPS" '
+          BEGIN { while ((getline line < th) > 0) { split(line, a, " "); lke[a[1]] = a[2]; lpe[a[1]] = a[3]; ldave[a[1]] = a[4]; ldmax[a[1]] = a[5] } }
+          NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+          { st = $col["step"] + 0; ke[st] = $col["kinetic_energy"]; se[st] = $col["strain_energy"]; dm[st] = $col["max_damage"] }
+          END {
+            worst = 0
+            for (st in lke) if (st in ke) { d = ke[st] / lke[st] - 1; if (d < 0) d = -d; if (d > worst) worst = d }
+            printf "| %s | %s | %s | %.2e | %.6g | %.6g | %.5f | %.5f | %s / %.4f | %.4f / %.4f |\n", m, v, s, worst,
+              ke[steps], lke[steps], (ke[steps] + se[steps]) / ke[0], (lke[steps] + lpe[steps]) / lke[0],
+              mean, ldave[steps], dm[steps], ldmax[steps]
+          }' "$dir/output/cube.globals.csv" >> "$md"
+      done
     done
   done
-  [ $any = 1 ] || return 0
 }
 
 # ---------------------------------------------------------------- main
@@ -379,72 +458,76 @@ if [ -n "$SUMMARIZE" ]; then
   exit 0
 fi
 
+# Open MPI refuses to run as root without these.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
 need_pkg() { # command package
   command -v "$1" > /dev/null 2>&1 && return 0
   echo "$1 not found: installing the Debian package $2" >&2
-  if [ "$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq "$2" > /dev/null
-  else sudo apt-get update -qq && sudo apt-get install -y -qq "$2" > /dev/null; fi
+  local sudo=""; [ "$(id -u)" = 0 ] || sudo=sudo
+  $sudo apt-get update -qq && $sudo apt-get install -y -qq "$2" > /dev/null
   command -v "$1" > /dev/null 2>&1 || { echo "Error: cannot install $2" >&2; exit 1; }
 }
 need_pkg mpirun openmpi-bin
-if has lammps "$CODES"; then
-  need_pkg lmp lammps
-  [ -x /usr/bin/time ] || need_pkg /usr/bin/time time
-fi
+need_pkg /usr/bin/time time
+has lammps "$CODES" && need_pkg lmp lammps
 if has perideal "$CODES"; then
-  [ -x "$PD_APP" ] || { echo "Error: no PeriDeal executable '$PD_APP' (build it: mkdir build && cd build && cmake -DCMAKE_BUILD_TYPE=Release .. && make -j2; or pass --pd-app)" >&2; exit 1; }
+  [ -x "$PD_APP" ] || { echo "Error: no PeriDeal executable '$PD_APP'. Build it with: mkdir -p build && cd build && cmake -DCMAKE_BUILD_TYPE=Release .. && make -j2 pd_app; or pass --pd-app" >&2; exit 1; }
   PD_APP=$(cd "$(dirname "$PD_APP")" && pwd)/$(basename "$PD_APP")
+  bt=$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$(dirname "$PD_APP")/CMakeCache.txt" 2>/dev/null)
+  [ "$bt" = Debug ] && echo "Warning: $PD_APP is a Debug build (debug deal.II, -O0); configure with -DCMAKE_BUILD_TYPE=Release to benchmark" >&2
 fi
+if [ $PHYSICS = 1 ] && has perideal "$CODES" && has lammps "$CODES"; then need_pkg python3 python3; fi
 
 [ -n "$OUT" ] || OUT="$here/results/$(date +%Y%m%d-%H%M%S)"
 mkdir -p "$OUT"
 OUT=$(cd "$OUT" && pwd)
 {
   echo "date: $(date -Is)"
-  echo "host: $(hostname)"
-  echo "cpu: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
+  echo "host: $(hostname), cpu: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
   echo "load at start: $(cat /proc/loadavg)"
-  echo "pd_app: $PD_APP"
-  [ -f "$(dirname "$PD_APP")/CMakeCache.txt" ] && echo "pd_app build type: $(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$(dirname "$PD_APP")/CMakeCache.txt")"
-  echo "git: $(git -C "$root" rev-parse --short HEAD 2>/dev/null) $(git -C "$root" status --porcelain 2>/dev/null | grep -qv '^??' && echo '(modified tree)')"
+  has perideal "$CODES" && echo "pd_app: $PD_APP (build type: ${bt:-?}, built $(date -r "$PD_APP" -Is))"
+  echo "git: $(git -C "$root" rev-parse --short HEAD 2>/dev/null)$(git -C "$root" status --porcelain -uno 2>/dev/null | grep -q . && echo ' (tracked files modified)')"
   echo "lammps: $(dpkg-query -W -f='${Version}' lammps 2>/dev/null)"
-  echo "command: $0 --models \"$MODELS\" --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS --globals-freq $FREQ"
+  echo "options: --models \"$MODELS\" --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS --globals-freq $FREQ --lps-influence '$LPS_INFLUENCE'"
 } > "$OUT/machine.txt"
 cat "$OUT/machine.txt"
 
 tsv="$OUT/results.tsv"
 [ -s "$tsv" ] || echo "$COLS" | tr ' ' '\t' > "$tsv"
 
+report() { # code m v n np rep status loop upd peak ke cpu
+  printf '%s %-8s %-3s %-10s n=%-3s np=%s rep %s: %-6s loop %9.3f s %8.2f M bond updates/s %8.1f MiB  CPU %4s%%  KE(%s) %s\n' \
+    "$(date +%T)" "$1" "$2" "$3" "$4" "$5" "$6" "$7" "$8" "$(awk -v u="$9" 'BEGIN { print u / 1e6 }')" "${10}" "${12}" "$STEPS" "${11}"
+}
+
 run_perideal() { # model variant n np rep
   local m=$1 v=$2 n=$3 np=$4 rep=$5
   local dir="$OUT/perideal_${m}_${v}_n${n}_np${np}_r${rep}"
   rm -rf "$dir"; mkdir -p "$dir"
-  write_prm "$m" "$v" "$n" "$dir/pd.prm"
+  write_prm "$m" "$v" "$n" "$dir/pd.prm" "$FREQ" "" "$LPS_INFLUENCE"
   local load; load=$(loadavg)
-  (cd "$dir" && mpirun -np "$np" --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
-  local rc=$? status=ok
-  local upd bonds peak loop
+  (cd "$dir" && mpirun -np "$np" --bind-to core "$here/lammps/rank_wrap.sh" pd "$PD_APP" pd.prm > pd.log 2>&1)
+  local rc=$? status=ok upd bonds peak loop cpu rss
   upd=$(awk '/bond updates per second:/ { print $5; exit }' "$dir/pd.log")
   bonds=$(awk '/^  bonds:/ && /\(directed\)$/ { b = $2 } END { print b }' "$dir/pd.log")
   peak=$(awk '/peak memory:/ { print $3; exit }' "$dir/pd.log")
+  read -r cpu rss <<< "$(time_files "$dir"/pd.rank*.time)"
   if [ $rc != 0 ] || [ -z "$upd" ] || [ -z "$bonds" ] || [ -z "$peak" ]; then
     status="failed(rc=$rc)"; upd=0; bonds=${bonds:-0}; peak=${peak:-0}; loop=0
   else
-    # The summary prints the loop time to 0.1 s; the rate has 4 digits.
+    # The summary prints the loop time to 0.1 s only; the rate has 4 digits.
     loop=$(awk -v b="$bonds" -v s="$STEPS" -v u="$upd" 'BEGIN { printf "%.6g", b * s / (u * 1e6) }')
     upd=$(awk -v u="$upd" 'BEGIN { printf "%.6g", u * 1e6 }')
   fi
-  local g; g=$(pd_globals "$dir/output/cube.globals.csv")
-  local ke0 ke se br md; read -r ke0 ke se br md <<< "$g"
+  local ke0 ke se br md
+  read -r ke0 ke se br md <<< "$(pd_globals "$dir/output/cube.globals.csv")"
   local tf td tg ti to
   tf=$(pd_timer "$dir/pd.log" force); td=$(pd_timer "$dir/pd.log" damage)
   tg=$(pd_timer "$dir/pd.log" "ghost exchange"); ti=$(pd_timer "$dir/pd.log" "time integration")
   to=$(pd_timer "$dir/pd.log" output)
-  printf '%s\n' "perideal $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $se $br $md - $tf $td $tg $ti $to $load" | tr ' ' '\t' >> "$tsv"
-  printf '%s %-8s %-3s %-10s n=%-3s np=%s rep %s: %s loop %8.3f s  %7.2f M bond updates/s  %7.1f MiB  KE %s\n' \
-    "$(date +%T)" perideal "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$(awk -v u="$upd" 'BEGIN{print u/1e6}')" "$peak" "$ke"
+  printf '%s\n' "perideal $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $se $br $md - $tf $td $tg $ti $to $cpu $load" | tr ' ' '\t' >> "$tsv"
+  report perideal "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$upd" "$peak" "$ke" "$cpu"
 }
 
 run_lammps() { # model variant n np rep
@@ -456,25 +539,24 @@ run_lammps() { # model variant n np rep
   (cd "$dir" && mpirun -np "$np" --bind-to core "$here/lammps/rank_wrap.sh" lmp \
      lmp -in "$here/lammps/in.cube_$m" -var n "$n" -var s00 "$sc" -var vamp "$vamp" -var nsteps "$STEPS" \
      -log lmp.log -screen none > lmp.out 2>&1)
-  local rc=$? status=ok
-  local loop bonds upd peak
+  local rc=$? status=ok loop bonds upd peak cpu rss
   loop=$(awk '/^Loop time of/ { t = $4 } END { print t }' "$dir/lmp.log" 2>/dev/null)
+  cpu=$(awk '/% CPU use with/ { c = $1 } END { sub(/%/, "", c); print (c == "" ? "-" : c) }' "$dir/lmp.log" 2>/dev/null)
   bonds=$(bond_count "$n")
-  peak=$(cat "$dir"/lmp.rank*.time 2>/dev/null | awk -F: '/Maximum resident set size/ { s += $2 } END { printf "%.1f", s / 1024 }')
+  read -r _ peak <<< "$(time_files "$dir"/lmp.rank*.time)"
   if [ $rc != 0 ] || [ -z "$loop" ]; then
-    status="failed(rc=$rc)"; loop=0; upd=0
+    status="failed(rc=$rc)"; loop=0; upd=0; peak=0
   else
     upd=$(awk -v b="$bonds" -v s="$STEPS" -v t="$loop" 'BEGIN { printf "%.6g", b * s / t }')
   fi
-  local th; th=$(lmp_thermo "$dir/lmp.log" "$STEPS" 2>/dev/null || echo "- - - - -")
-  local ke0 ke pe dave dmax; read -r ke0 ke pe dave dmax <<< "$th"
-  # LAMMPS PERI: rmass = density, so its ke is sum 1/2 rho v^2 (no volume); x h^3.
-  if [ "$ke0" != - ]; then
-    read -r ke0 ke pe <<< "$(awk -v n="$n" -v a="$ke0" -v b="$ke" -v c="$pe" 'BEGIN { V = 1 / (n * n * n); printf "%.10g %.10g %.10g\n", a * V, b * V, c * V }')"
-  fi
-  printf '%s\n' "lammps $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $pe - $dmax $dave 0 0 0 0 0 $load" | tr ' ' '\t' >> "$tsv"
-  printf '%s %-8s %-3s %-10s n=%-3s np=%s rep %s: %s loop %8.3f s  %7.2f M bond updates/s  %7.1f MiB  KE %s\n' \
-    "$(date +%T)" lammps "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$(awk -v u="$upd" 'BEGIN{print u/1e6}')" "$peak" "$ke"
+  # LAMMPS PERI: rmass = density, so its ke is sum 1/2 rho v^2 without the
+  # volume; times h^3 it is PeriDeal's kinetic energy.
+  local ke0=- ke=- pe=- dave=- dmax=-
+  read -r ke0 ke pe dave dmax <<< "$(lmp_thermo_rows "$dir/lmp.log" 2>/dev/null | awk -v n="$n" -v s="$STEPS" '
+    { r[$1] = $0 } END { V = 1 / (n * n * n); if (!(0 in r) || !(s in r)) { print "- - - - -"; exit }
+      split(r[0], a, " "); split(r[s], b, " "); printf "%.10g %.10g %.10g %s %s\n", a[2] * V, b[2] * V, b[3] * V, b[4], b[5] }')"
+  printf '%s\n' "lammps $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $pe - $dmax $dave 0 0 0 0 0 $cpu $load" | tr ' ' '\t' >> "$tsv"
+  report lammps "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$upd" "$peak" "$ke" "$cpu"
 }
 
 for rep in $(seq 1 "$REPS"); do
@@ -490,13 +572,8 @@ for rep in $(seq 1 "$REPS"); do
   done
 done
 
-if [ $PHYSICS = 1 ] && has perideal "$CODES" && has dmg "$VARIANTS"; then
-  {
-    echo "### Separate physics check: PeriDeal mean point damage at step $STEPS (n = 20, 1 rank, Damage field written)"
-    echo
-    echo "| model | variant | n | ranks | mean damage PeriDeal |"
-    echo "|---|---|---|---|---|"
-  } > "$OUT/physics.md"
+if [ $PHYSICS = 1 ] && has perideal "$CODES" && has lammps "$CODES"; then
+  echo "$(date +%T) physics check (n = 20, 1 rank)"
   physics_check "$OUT"
 fi
 
@@ -504,6 +581,8 @@ echo "load at end: $(cat /proc/loadavg)" >> "$OUT/machine.txt"
 echo
 {
   echo "Results: $OUT"
+  echo
+  cat "$OUT/machine.txt"
   echo
   summarize "$tsv"
   [ -s "$OUT/physics.md" ] && { echo; cat "$OUT/physics.md"; }

@@ -2,6 +2,7 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 
@@ -41,7 +42,7 @@ namespace perideal
                    const bool         strict)
   {
     std::ifstream in(filename);
-    AssertThrow(in.good(),
+    AssertThrow(in.good() && std::filesystem::is_regular_file(filename),
                 dealii::ExcMessage("cannot open the parameter file '" +
                                    filename + "'"));
     prm.parse_input(in, filename, "", /*skip_undefined=*/!strict);

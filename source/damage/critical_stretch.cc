@@ -62,6 +62,7 @@ namespace perideal
           // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
           // both owners of a bond see the same length.
           const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
+#pragma omp simd reduction(+ : n)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               const unsigned int j  = neighbor[b];

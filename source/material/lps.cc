@@ -229,6 +229,7 @@ namespace perideal
           // both owners of a bond see the same length.
           const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
           double       sum = 0;
+#pragma omp simd reduction(+ : sum)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               const unsigned int j  = neighbor[b];
@@ -272,6 +273,7 @@ namespace perideal
           const double ai = alpha[i], bi = beta[i];
           const double third_theta = theta[i] / 3;
           double       fx = 0, fy = 0, fz = 0, Wd = 0;
+#pragma omp simd reduction(+ : fx, fy, fz, Wd)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               const unsigned int j  = neighbor[b];

@@ -166,6 +166,7 @@ namespace perideal
           // both owners of a bond see the same length.
           const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
           double       fx = 0, fy = 0, fz = 0, w = 0;
+#pragma omp simd reduction(+ : fx, fy, fz, w)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               const unsigned int j   = neighbor[b];

@@ -23,7 +23,9 @@ namespace perideal
       points[i] = cloud.position(i);
     const auto tree = pack_rtree_of_indices(points);
 
-    // Reserve for a full interior family to avoid regrowing the bond array.
+    // Reserve for a full interior family (a lattice holds up to ~9% more
+    // points than the sphere's volume) so that the bond array, the largest
+    // allocation of a run, is allocated once and never copied.
     double expected = 0;
     for (unsigned int i = 0; i < n_owned; ++i)
       {
@@ -33,7 +35,7 @@ namespace perideal
 
     Bonds bonds;
     bonds.offsets.resize(n_owned + 1);
-    bonds.neighbor.reserve(static_cast<std::size_t>(expected * 1.05) + 16);
+    bonds.neighbor.reserve(static_cast<std::size_t>(expected * 1.1) + 16);
     std::vector<bool>         used(n_local, false);
     std::vector<unsigned int> candidates;
     for (unsigned int i = 0; i < n_owned; ++i)
@@ -62,7 +64,6 @@ namespace perideal
                   });
       }
     bonds.offsets[n_owned] = bonds.neighbor.size();
-    bonds.neighbor.shrink_to_fit();
 
     // Renumbering keeps the relative order of ghosts (ascending global index),
     // which is not the key order; families stay sorted because the new local

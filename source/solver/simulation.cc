@@ -672,6 +672,27 @@ namespace perideal
               body_force[dim * i + bc.component] +=
                 bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
       }
+    // A condition whose expression is not finite at one of its points.
+    unsigned int bad = 0;
+    for (unsigned int c = 0; c < conditions.size() && bad == 0; ++c)
+      for (const unsigned int i : conditions[c].points)
+        if (!std::isfinite(conditions[c].value->value(cloud.position(i), initial_time, cloud.hash(i))))
+          {
+            bad = c + 1;
+            break;
+          }
+    check_condition_values(bad, initial_time);
+  }
+
+  void
+  Simulation::check_condition_values(const unsigned int bad_local, const double time) const
+  {
+    // Collective: the offending point may live on one rank only.
+    const unsigned int bad = Utilities::MPI::max(bad_local, comm);
+    AssertThrow(bad == 0,
+                ExcMessage("Boundary conditions/" + conditions[bad - 1].name + "/Value: '" +
+                           conditions[bad - 1].value->text() + "' is not finite at some of its points at t = " +
+                           sci(time, 6)));
   }
 
   void
@@ -695,6 +716,8 @@ namespace perideal
             displacement.local_element(e) += step_dt * bc.value->value(x, time - 0.5 * step_dt, h);
             velocity.local_element(e) = bc.value->value(x, time, h);
           }
+        if (!std::isfinite(displacement.local_element(e)) || !std::isfinite(velocity.local_element(e)))
+          bad_condition = c.condition + 1;
       }
   }
 
@@ -1034,10 +1057,28 @@ namespace perideal
             ke += 0.5 * mass_density[i] * cloud.volume[i] *
                   (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
         }
-        double sums[2] = {ke, work};
-        Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
+        if (body_force_depends_on_time)
+          for (const double b : body_force)
+            if (!std::isfinite(b))
+              bad_condition = conditions.size(); // reported below by a collective search
+        double sums[3] = {ke, work, double(bad_condition)};
+        Utilities::MPI::sum(ArrayView<const double>(sums, 3), comm, ArrayView<double>(sums, 3));
         ke = sums[0];
         external_work += sums[1];
+        if (sums[2] > 0)
+          {
+            // Name the condition (collective), then stop.
+            unsigned int bad = 0;
+            for (unsigned int c = 0; c < conditions.size() && bad == 0; ++c)
+              for (const unsigned int i : conditions[c].points)
+                if (!std::isfinite(conditions[c].value->value(cloud.position(i), new_time, cloud.hash(i))))
+                  {
+                    bad = c + 1;
+                    break;
+                  }
+            check_condition_values(bad, new_time);
+            AssertThrow(false, ExcMessage("a boundary condition gave a non-finite value at t = " + sci(new_time, 6)));
+          }
 
         const double reference = std::abs(initial_energy) + std::abs(external_work);
         const bool   nonfinite = !std::isfinite(ke);

@@ -33,6 +33,8 @@
 
 #include "harness.h"
 
+#include <deal.II/base/symmetric_tensor.h>
+
 using namespace pdtest;
 
 namespace

@@ -11,7 +11,14 @@
 // and still catches any real force (a wrong sign or a missing term gives O(1)).
 //
 // The box has different spacings along x, y and z and is off the origin, so
-// the rotations move points by O(1) (the 90 degree one by up to ~1.5).
+// the rotations move points by O(1) (the 90 degree one by up to ~1.8).
+//
+// Objectivity: a deformed state y0 = x + u0 (non-affine, |grad u0| ~ 1e-2)
+// and the same state rotated, y1 = Q y0 + c, must give f1 = Q f0 and the
+// same dilatation and energy density at every point (a force along the
+// reference bond instead of the deformed one fails this). Bound: max |f1 -
+// Q f0| below 1e-10 of the force scale above, |theta1 - theta0| below 1e-10
+// of 1e-3, |W1 - W0| below 1e-10 of K 1e-6.
 
 #include "harness.h"
 
@@ -109,6 +116,54 @@ main(int argc, char *argv[])
                 report.check("    max |dilatation| / 1e-3", theta_max / strain,
                              theta_max / strain < tol, "< " + sci(tol));
             }
+
+          // Objectivity under a 90 degree rotation plus translation.
+          const Motion &m = motions[2];
+          auto          u0 = [](const Point<3> &x) {
+            Tensor<1, 3> d;
+            d[0] = 1e-3 * std::sin(7 * x[1]) + 2e-3 * x[0] * x[2];
+            d[1] = -1e-3 * std::cos(5 * x[0] + x[2]);
+            d[2] = 1.5e-3 * x[1] * x[1];
+            return d;
+          };
+          h.set_displacement(u0);
+          h.evaluate(true);
+          const unsigned int        n = h.cloud.n_owned();
+          std::vector<Tensor<1, 3>> f0(n);
+          std::vector<double>       theta0(n), w0(n);
+          double                    f0_max = 0;
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              f0[i]     = h.force_of(i);
+              w0[i]     = h.energy[i];
+              theta0[i] = lps ? h.field("dilatation", i) : 0;
+              f0_max    = std::max(f0_max, f0[i].norm());
+            }
+          h.set_displacement([&](const Point<3> &x) {
+            const Tensor<1, 3> y0 = Tensor<1, 3>(x) + u0(x);
+            return Tensor<1, 3>(m.Q * y0 + m.c - Tensor<1, 3>(x));
+          });
+          h.evaluate(true);
+          double df = 0, dtheta = 0, dw = 0;
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              df = std::max(df, (h.force_of(i) - m.Q * f0[i]).norm());
+              dw = std::max(dw, std::abs(h.energy[i] - w0[i]));
+              if (lps)
+                dtheta = std::max(dtheta, std::abs(h.field("dilatation", i) - theta0[i]));
+            }
+          df     = Utilities::MPI::max(df, comm);
+          dw     = Utilities::MPI::max(dw, comm);
+          dtheta = Utilities::MPI::max(dtheta, comm);
+          f0_max = Utilities::MPI::max(f0_max, comm);
+          report.line("  objectivity: deformed state (max |f| / f_ref " + sci(f0_max / f_ref, 4) + ") and " +
+                      m.name);
+          report.check("    max |f1 - Q f0| / (K 1e-3 / horizon)", df / f_ref, df / f_ref < tol, "< " + sci(tol));
+          report.check("    max |W1 - W0| / (K 1e-6)", dw / (K * strain * strain),
+                       dw / (K * strain * strain) < tol, "< " + sci(tol));
+          if (lps)
+            report.check("    max |theta1 - theta0| / 1e-3", dtheta / strain, dtheta / strain < tol,
+                         "< " + sci(tol));
         }
     }
   catch (const std::exception &e)

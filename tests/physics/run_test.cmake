@@ -51,12 +51,12 @@ if(DEFINED CHECK)
 endif()
 
 if(DEFINED EXPECTED)
-  file(WRITE "${WORKDIR}/output" "${compared}")
+  file(WRITE "${WORKDIR}/compared.txt" "${compared}")
   string(REPLACE "|" ";" numdiff_args "${NUMDIFF_ARGS}")
-  execute_process(COMMAND "${NUMDIFF}" ${numdiff_args} "${EXPECTED}" "${WORKDIR}/output"
+  execute_process(COMMAND "${NUMDIFF}" ${numdiff_args} "${EXPECTED}" "${WORKDIR}/compared.txt"
     OUTPUT_VARIABLE diff_out RESULT_VARIABLE diff_rc)
   if(NOT diff_rc EQUAL 0)
-    message(FATAL_ERROR "numdiff ${NUMDIFF_ARGS}: ${WORKDIR}/output differs from ${EXPECTED}\n${diff_out}")
+    message(FATAL_ERROR "numdiff ${NUMDIFF_ARGS}: ${WORKDIR}/compared.txt differs from ${EXPECTED}\n${diff_out}")
   endif()
   message("---- numdiff ${NUMDIFF_ARGS} against ${EXPECTED}: equal")
 endif()

@@ -77,6 +77,8 @@ namespace perideal
     void
     apply_prescribed(const double time, const double dt);
     void
+    check_condition_values(const unsigned int bad_local, const double time) const;
+    void
     compute_forces(const bool with_energy);
     double
     stable_time_step();
@@ -129,6 +131,7 @@ namespace perideal
     };
     std::vector<Constraint> constraints;
     std::vector<double>     constraint_force; // internal force at the constraints, previous step
+    unsigned int            bad_condition = 0; // 1 + index of a condition that gave a non-finite value
 
     // Diagnostics
     double      dt = 0, dt_stable = 0;
