@@ -1,6 +1,6 @@
 """Render the damage field of a PeriDeal run to a PNG with ParaView.
 
-  pvpython --force-offscreen-rendering render_damage.py RUN.pvd OUT.png [options]
+  xvfb-run -a pvpython render_damage.py RUN.pvd OUT.png [options]
 
 Loads the .pvd series, takes the last time step, moves every cell by its
 displacement (Warp By Vector, scale 1: the deformed shape as it is), colors
@@ -14,8 +14,11 @@ the picture. Options:
   --size W,H        image size in pixels (default 1200,900)
   --title TEXT      a caption at the top left (default: the file name and time)
   --no-warp         draw the reference configuration instead of the deformed one
-Without a display, run it with --force-offscreen-rendering (ParaView 5.11)
-or under xvfb-run.
+Debian's ParaView 5.11 (package paraview) renders through X only: without a
+display run pvpython under xvfb-run (package xvfb); its
+--force-offscreen-rendering ends in a segmentation fault there. If xvfb-run
+-a aborts with "bad X server connection", an Xvfb left over from an earlier
+failed run holds the display: end it, or pick a display with -n.
 """
 
 import argparse

@@ -10,6 +10,8 @@
 #include <deal.II/base/utilities.h>
 
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace perideal
 {
@@ -82,8 +84,11 @@ namespace perideal
     std::string
     describe() const override
     {
-      return "critical stretch s_c = " + Utilities::to_string(sc, 6) +
-             (given_sc > 0 ? "" : " (from G_c = " + Utilities::to_string(release_rate) + ")");
+      std::ostringstream out;
+      out << "critical stretch s_c = " << std::setprecision(6) << sc;
+      if (given_sc == 0)
+        out << " (from G_c = " << release_rate << ")";
+      return out.str();
     }
 
   private:

@@ -867,6 +867,9 @@ namespace perideal
       pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
             << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)
             << (b.damage ? ", damage: " + b.damage->describe() : std::string(", no damage")) << "\n";
+    for (const auto &bc : conditions)
+      pcout << "  condition '" << bc.name << "': " << Utilities::MPI::sum(bc.points.size(), comm)
+            << " points (region '" << bc.region << "')\n";
     pcout << "  memory estimate:   bonds " << mib(sum_bond) << ", point fields " << mib(sum_point)
           << ", mesh and DoFs " << mib(sum_mesh) << "; total " << mib(sum_bond + sum_point + sum_mesh)
           << " (" << sci((sum_bond + sum_point + sum_mesh) / std::max(1.0, bonds_global), 3)

@@ -1,0 +1,82 @@
+#pragma once
+// Field output (one .vtu per rank and output step, a .pvtu per step, a .pvd
+// series) and the CSV of global quantities. Files are written whole or not at
+// all: each goes to a temporary name and is renamed when complete.
+
+#include <perideal/base/input.h>
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/la_parallel_vector.h>
+#include <deal.II/lac/vector.h>
+
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace perideal
+{
+  class OutputWriter
+  {
+  public:
+    /// Declared inside subsection "Output".
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /// The output variables a user can ask for.
+    static const std::vector<std::string> &
+    variable_names();
+
+    bool
+    wants(const std::string &variable) const
+    {
+      return variables.count(variable) > 0;
+    }
+
+    /// Step 0, every Frequency-th step and the last one; none if Frequency is 0.
+    bool
+    is_output_step(const unsigned int step, const unsigned int n_steps) const
+    {
+      return frequency > 0 && (step % frequency == 0 || step == n_steps);
+    }
+
+    /// Creates the output directory and clears the series. Collective.
+    void
+    initialize(const MPI_Comm comm);
+
+    using CellField   = std::pair<std::string, const dealii::Vector<double> *>;
+    using VectorField = std::pair<std::string,
+                                  const dealii::LinearAlgebra::distributed::Vector<double> *>;
+
+    /// Writes one output step of @p cell_fields (one value per active cell)
+    /// and @p vector_fields (DG0 vectors on @p dof_handler). Collective.
+    void
+    write_fields(const dealii::DoFHandler<3>    &dof_handler,
+                 const std::vector<CellField>   &cell_fields,
+                 const std::vector<VectorField> &vector_fields,
+                 const unsigned int              step,
+                 const double                    time,
+                 const MPI_Comm                  comm);
+
+    /// Appends a row to <directory>/<base name>.globals.csv (rank 0 writes).
+    void
+    write_globals(const std::vector<std::pair<std::string, double>> &row,
+                  const MPI_Comm                                    comm);
+
+    std::string           directory = "output";
+    std::string           base_name = "run";
+    unsigned int          frequency = 0;
+    std::set<std::string> variables;
+    bool                  globals = true;
+
+  private:
+    std::vector<std::pair<double, std::string>> pvd_records;
+    std::vector<std::string>                    csv_lines;
+  };
+
+  /// Writes @p text to @p filename through a temporary file and a rename.
+  void
+  write_file_atomically(const std::string &filename, const std::string &text);
+} // namespace perideal

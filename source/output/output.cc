@@ -1,0 +1,168 @@
+#include <perideal/output/output.h>
+
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  const std::vector<std::string> &
+  OutputWriter::variable_names()
+  {
+    static const std::vector<std::string> names = {
+      "Displacement", "Velocity", "Acceleration", "Force density",
+      "Damage", "Dilatation", "Weighted volume", "Number of neighbors",
+      "Block", "Rank"};
+    return names;
+  }
+
+  void
+  OutputWriter::declare_parameters(ParameterHandler &prm)
+  {
+    std::string selection;
+    for (const auto &n : variable_names())
+      selection += (selection.empty() ? "" : "|") + n;
+    prm.declare_entry("Directory", "output", Patterns::Anything(),
+                      "Where output goes; created if missing.");
+    prm.declare_entry("Base name", "run", Patterns::Anything(),
+                      "Files are <base name>_<step>.<rank>.vtu, <base name>_<step>.pvtu, "
+                      "<base name>.pvd and <base name>.globals.csv.");
+    prm.declare_entry("Frequency", "0", Patterns::Integer(0),
+                      "Write every this many steps, plus the first and the last step. "
+                      "0: write nothing during the run (the summary is still printed).");
+    prm.declare_entry("Variables", "Displacement, Damage", Patterns::MultipleSelection(selection),
+                      "Fields written as cell data (constant per point); only these are "
+                      "computed. Empty: no field files, only the globals CSV.");
+    prm.declare_entry("Write globals", "true", Patterns::Bool(),
+                      "Write <base name>.globals.csv with step, time, kinetic_energy, "
+                      "strain_energy, broken_bonds, max_damage and more, a row per "
+                      "output step.");
+  }
+
+  void
+  OutputWriter::parse_parameters(ParameterHandler &prm)
+  {
+    directory = prm.get("Directory");
+    base_name = prm.get("Base name");
+    frequency = prm.get_integer("Frequency");
+    globals   = prm.get_bool("Write globals");
+    variables.clear();
+    for (const auto &v : Utilities::split_string_list(prm.get("Variables"), ','))
+      if (!v.empty())
+        variables.insert(v);
+    AssertThrow(!base_name.empty() && base_name.find('/') == std::string::npos,
+                ExcMessage("Output/Base name must be a plain file name, got '" +
+                           base_name + "'"));
+  }
+
+  void
+  write_file_atomically(const std::string &filename, const std::string &text)
+  {
+    const std::string tmp = filename + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::binary);
+      out << text;
+      out.close();
+      AssertThrow(out, ExcMessage("cannot write the file '" + tmp + "'"));
+    }
+    AssertThrow(std::rename(tmp.c_str(), filename.c_str()) == 0,
+                ExcMessage("cannot rename '" + tmp + "' to '" + filename + "'"));
+  }
+
+  void
+  OutputWriter::initialize(const MPI_Comm comm)
+  {
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        std::error_code ec;
+        std::filesystem::create_directories(directory, ec);
+        AssertThrow(!ec && std::filesystem::is_directory(directory),
+                    ExcMessage("Output/Directory: cannot create '" + directory + "'"));
+      }
+    MPI_Barrier(comm);
+    pvd_records.clear();
+    csv_lines.clear();
+  }
+
+  void
+  OutputWriter::write_fields(const DoFHandler<3>            &dof_handler,
+                             const std::vector<CellField>   &cell_fields,
+                             const std::vector<VectorField> &vector_fields,
+                             const unsigned int              step,
+                             const double                    time,
+                             const MPI_Comm                  comm)
+  {
+    if (cell_fields.empty() && vector_fields.empty())
+      return;
+    DataOut<3> data_out;
+    data_out.attach_dof_handler(dof_handler);
+    for (const auto &f : vector_fields)
+      data_out.add_data_vector(
+        *f.second,
+        std::vector<std::string>(3, f.first),
+        DataOut<3>::type_dof_data,
+        std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+          3, DataComponentInterpretation::component_is_part_of_vector));
+    for (const auto &f : cell_fields)
+      data_out.add_data_vector(*f.second, f.first, DataOut<3>::type_cell_data);
+    data_out.build_patches();
+
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const std::string  stem =
+      base_name + "_" + Utilities::int_to_string(step, 6);
+
+    std::ostringstream vtu;
+    data_out.write_vtu(vtu);
+    write_file_atomically(directory + "/" + stem + "." +
+                            Utilities::int_to_string(rank, 4) + ".vtu",
+                          vtu.str());
+    MPI_Barrier(comm);
+    if (rank == 0)
+      {
+        std::vector<std::string> pieces;
+        for (unsigned int r = 0; r < n_ranks; ++r)
+          pieces.push_back(stem + "." + Utilities::int_to_string(r, 4) + ".vtu");
+        std::ostringstream pvtu;
+        data_out.write_pvtu_record(pvtu, pieces);
+        write_file_atomically(directory + "/" + stem + ".pvtu", pvtu.str());
+
+        pvd_records.emplace_back(time, stem + ".pvtu");
+        std::ostringstream pvd;
+        DataOutBase::write_pvd_record(pvd, pvd_records);
+        write_file_atomically(directory + "/" + base_name + ".pvd", pvd.str());
+      }
+  }
+
+  void
+  OutputWriter::write_globals(const std::vector<std::pair<std::string, double>> &row,
+                              const MPI_Comm                                    comm)
+  {
+    if (!globals || Utilities::MPI::this_mpi_process(comm) != 0)
+      return;
+    if (csv_lines.empty())
+      {
+        std::string header;
+        for (const auto &c : row)
+          header += (header.empty() ? "" : ",") + c.first;
+        csv_lines.push_back(header);
+      }
+    std::ostringstream line;
+    line << std::setprecision(10);
+    for (unsigned int c = 0; c < row.size(); ++c)
+      line << (c ? "," : "") << row[c].second;
+    csv_lines.push_back(line.str());
+    std::string text;
+    for (const auto &l : csv_lines)
+      text += l + "\n";
+    write_file_atomically(directory + "/" + base_name + ".globals.csv", text);
+  }
+} // namespace perideal
