@@ -26,6 +26,24 @@ namespace perideal
   }
 
   double
+  resident_memory_bytes()
+  {
+    std::ifstream status("/proc/self/status");
+    std::string   key;
+    while (status >> key)
+      {
+        if (key == "VmRSS:")
+          {
+            double kb = 0;
+            status >> kb;
+            return 1024.0 * kb;
+          }
+        status.ignore(1 << 20, '\n');
+      }
+    return 0;
+  }
+
+  double
   peak_memory_bytes_sum(const MPI_Comm comm)
   {
     return dealii::Utilities::MPI::sum(peak_memory_bytes(), comm);

@@ -4,6 +4,9 @@
 //   s_c = sqrt(5 G_c / (9 K delta)).
 // Both owners compute the same s from the same positions, so both halves of
 // a bond break in the same step.
+// A material that fuses the test into its first bond pass (PMB, LPS: see
+// Material::fuses_stretch_criterion()) applies exactly this test there, and
+// the core skips update() for its block: one pass over the bonds, not two.
 
 #include <perideal/damage/damage_model.h>
 
@@ -56,7 +59,7 @@ namespace perideal
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
       // Compare squared lengths: |y| > (1 + s_c)|xi|, no square root per bond.
-      const double factor = (1 + sc) * (1 + sc);
+      const double factor = stretch_squared_limit(sc);
       std::size_t  n      = 0;
       for (const unsigned int i : points)
         {
@@ -79,6 +82,12 @@ namespace perideal
             }
         }
       return n;
+    }
+
+    double
+    critical_stretch() const override
+    {
+      return sc;
     }
 
     std::string

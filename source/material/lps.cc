@@ -131,12 +131,22 @@ namespace perideal
     void
     compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      if (state.broken)
-        constant_influence ? dilatation<true, false>(state, points) :
-                             dilatation<true, true>(state, points);
+      // Compile-time variants keep the bond loop free of branches.
+      if (state.breaking)
+        constant_influence ? dilatation<BondDamage::breaking, false>(state, points) :
+                             dilatation<BondDamage::breaking, true>(state, points);
+      else if (state.broken)
+        constant_influence ? dilatation<BondDamage::read, false>(state, points) :
+                             dilatation<BondDamage::read, true>(state, points);
       else
-        constant_influence ? dilatation<false, false>(state, points) :
-                             dilatation<false, true>(state, points);
+        constant_influence ? dilatation<BondDamage::none, false>(state, points) :
+                             dilatation<BondDamage::none, true>(state, points);
+    }
+
+    bool
+    fuses_stretch_criterion() const override
+    {
+      return true;
     }
 
     void
@@ -207,7 +217,17 @@ namespace perideal
     double                      omega0             = 1;
     std::vector<double>         omega; // per bond, only for a non-constant influence function
 
-    template <bool damage, bool weighted>
+    // What the dilatation pass does with bond damage: nothing (no damage
+    // model), read it, or also apply the critical stretch first (fused
+    // breaking; the force pass then reads the updated damage).
+    enum class BondDamage
+    {
+      none,
+      read,
+      breaking
+    };
+
+    template <BondDamage mode, bool weighted>
     void
     dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
     {
@@ -216,12 +236,15 @@ namespace perideal
       const double       *u        = state.u;
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
-      const std::uint8_t *broken   = state.broken;
+      std::uint8_t       *broken   = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
+      const std::uint8_t *damage   = mode == BondDamage::breaking ? broken : state.broken;
+      const double        limit    = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
       const double       *w_bond   = omega.data();
       const double       *m        = state.fields.get("weighted_volume").begin();
       const double       *gamma    = state.fields.get("lps_gamma").begin();
       double             *theta    = state.fields.get("dilatation").begin();
       double             *alpha    = state.fields.get("lps_alpha").begin();
+      std::size_t         newly_broken = 0;
       for (const unsigned int i : points)
         {
           const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
@@ -229,24 +252,34 @@ namespace perideal
           // both owners of a bond see the same length.
           const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
           double       sum = 0;
-#pragma omp simd reduction(+ : sum)
+#pragma omp simd reduction(+ : sum, newly_broken)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
-              const unsigned int j  = neighbor[b];
-              const double       ex = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
-              const double       dx = (X[3 * j] + u[3 * j]) - pi;
-              const double       dy = (X[3 * j + 1] + u[3 * j + 1]) - qi;
-              const double       dz = (X[3 * j + 2] + u[3 * j + 2]) - ri;
-              const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
-              const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
-              double             w  = weighted ? w_bond[b] : omega0;
-              if (damage)
-                w *= 1.0 - broken[b];
+              const unsigned int j    = neighbor[b];
+              const double       ex   = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
+              const double       dx   = (X[3 * j] + u[3 * j]) - pi;
+              const double       dy   = (X[3 * j + 1] + u[3 * j + 1]) - qi;
+              const double       dz   = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const double       r0sq = ex * ex + ey * ey + ez * ez;
+              const double       rsq  = dx * dx + dy * dy + dz * dz;
+              if (mode == BondDamage::breaking)
+                {
+                  const std::uint8_t breaks = rsq > limit * r0sq;
+                  newly_broken += breaks & (1 - broken[b]);
+                  broken[b] |= breaks;
+                }
+              const double r0 = std::sqrt(r0sq);
+              const double r  = std::sqrt(rsq);
+              double       w  = weighted ? w_bond[b] : omega0;
+              if (mode != BondDamage::none)
+                w *= 1.0 - damage[b];
               sum += w * r0 * (r - r0) * V[j];
             }
           theta[i] = 3 * sum / m[i];
           alpha[i] = gamma[i] * theta[i];
         }
+      if (mode == BondDamage::breaking)
+        state.breaking->newly_broken += newly_broken;
     }
 
     template <bool damage, bool energy, bool weighted>

@@ -75,27 +75,19 @@ namespace perideal
       const VectorType &c_field = state.fields.get("pmb_micromodulus");
       // One micromodulus in the whole family (the common case): the plain loop.
       const bool uniform = uniform_neighborhood(state, points, c_field);
-      const bool damage  = state.broken != nullptr;
-      const bool energy  = state.energy != nullptr;
       // Compile-time variants keep the bond loop free of branches.
-      if (uniform)
-        {
-          if (damage)
-            energy ? kernel<true, true, true>(state, points, c_field) :
-                     kernel<true, true, false>(state, points, c_field);
-          else
-            energy ? kernel<true, false, true>(state, points, c_field) :
-                     kernel<true, false, false>(state, points, c_field);
-        }
+      if (state.breaking)
+        dispatch<BondDamage::breaking>(uniform, state, points, c_field);
+      else if (state.broken)
+        dispatch<BondDamage::read>(uniform, state, points, c_field);
       else
-        {
-          if (damage)
-            energy ? kernel<false, true, true>(state, points, c_field) :
-                     kernel<false, true, false>(state, points, c_field);
-          else
-            energy ? kernel<false, false, true>(state, points, c_field) :
-                     kernel<false, false, false>(state, points, c_field);
-        }
+        dispatch<BondDamage::none>(uniform, state, points, c_field);
+    }
+
+    bool
+    fuses_stretch_criterion() const override
+    {
+      return true;
     }
 
     double
@@ -145,7 +137,26 @@ namespace perideal
     }
     mutable bool uniform = true, uniform_known = false;
 
-    template <bool uniform_c, bool damage, bool energy>
+    // What the bond loop does with bond damage: nothing (no damage model),
+    // read it, or also apply the critical stretch first (fused breaking).
+    enum class BondDamage
+    {
+      none,
+      read,
+      breaking
+    };
+
+    template <BondDamage mode>
+    void
+    dispatch(const bool uniform, const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c) const
+    {
+      if (uniform)
+        state.energy ? kernel<true, mode, true>(state, points, c) : kernel<true, mode, false>(state, points, c);
+      else
+        state.energy ? kernel<false, mode, true>(state, points, c) : kernel<false, mode, false>(state, points, c);
+    }
+
+    template <bool uniform_c, BondDamage mode, bool energy>
     void
     kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
     {
@@ -154,10 +165,14 @@ namespace perideal
       const double       *u        = state.u;
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
-      const std::uint8_t *broken   = state.broken;
-      const double       *c        = c_field.begin();
-      const double        c_own    = micromodulus();
-      double             *f        = state.force;
+      // Breaking writes bond damage; reading only needs the const view.
+      std::uint8_t       *broken = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
+      const std::uint8_t *damage = mode == BondDamage::breaking ? broken : state.broken;
+      const double        limit  = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
+      const double       *c      = c_field.begin();
+      const double        c_own  = micromodulus();
+      double             *f      = state.force;
+      std::size_t         newly_broken = 0;
 
       for (const unsigned int i : points)
         {
@@ -166,7 +181,7 @@ namespace perideal
           // both owners of a bond see the same length.
           const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
           double       fx = 0, fy = 0, fz = 0, w = 0;
-#pragma omp simd reduction(+ : fx, fy, fz, w)
+#pragma omp simd reduction(+ : fx, fy, fz, w, newly_broken)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               const unsigned int j   = neighbor[b];
@@ -174,12 +189,20 @@ namespace perideal
               const double       dx  = (X[3 * j] + u[3 * j]) - pi;
               const double       dy  = (X[3 * j + 1] + u[3 * j + 1]) - qi;
               const double       dz  = (X[3 * j + 2] + u[3 * j + 2]) - ri;
-              const double       r0  = std::sqrt(ex * ex + ey * ey + ez * ez);
-              const double       r   = std::sqrt(dx * dx + dy * dy + dz * dz);
-              const double       s   = (r - r0) / r0;
-              const double       cij = uniform_c ? c_own : 0.5 * (c[i] + c[j]);
-              const double       intact = damage ? 1.0 - broken[b] : 1.0;
-              const double       k      = intact * cij * s * V[j] / r;
+              const double       r0sq = ex * ex + ey * ey + ez * ez;
+              const double       rsq  = dx * dx + dy * dy + dz * dz;
+              if (mode == BondDamage::breaking)
+                {
+                  const std::uint8_t breaks = rsq > limit * r0sq;
+                  newly_broken += breaks & (1 - broken[b]);
+                  broken[b] |= breaks;
+                }
+              const double r0     = std::sqrt(r0sq);
+              const double r      = std::sqrt(rsq);
+              const double s      = (r - r0) / r0;
+              const double cij    = uniform_c ? c_own : 0.5 * (c[i] + c[j]);
+              const double intact = mode == BondDamage::none ? 1.0 : 1.0 - damage[b];
+              const double k      = intact * cij * s * V[j] / r;
               fx += k * dx;
               fy += k * dy;
               fz += k * dz;
@@ -192,6 +215,8 @@ namespace perideal
           if (energy)
             state.energy[i] += w;
         }
+      if (mode == BondDamage::breaking)
+        state.breaking->newly_broken += newly_broken;
     }
   };
 

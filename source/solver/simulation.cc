@@ -212,6 +212,9 @@ namespace perideal
     , triangulation(comm_)
     , fe(FE_DGQ<dim>(0), dim)
     , dof_handler(triangulation)
+    // The libraries are loaded and initialised by now: what the scene adds
+    // to this is its own memory.
+    , startup_memory(resident_memory_bytes())
   {
     read_parameters(parameter_file);
   }
@@ -533,12 +536,21 @@ namespace perideal
 
     ModelState state{cloud, bonds, nullptr, displacement.begin(), force.begin(), nullptr, *fields};
     std::set<std::string> constant, stage;
+    fused_breaking.clear();
     for (unsigned int b = 0; b < blocks.size(); ++b)
       {
         blocks[b].material->set_block(b, blocks[b].horizon);
         blocks[b].material->initialize(state, blocks[b].points);
         if (blocks[b].damage)
           blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
+        fused_breaking.emplace_back();
+        if (blocks[b].damage && blocks[b].damage->critical_stretch() > 0 &&
+            blocks[b].material->fuses_stretch_criterion())
+          {
+            fused_breaking.back().squared_limit =
+              stretch_squared_limit(blocks[b].damage->critical_stretch());
+            fused_breaking.back().broken = broken.data();
+          }
         for (const auto &f : blocks[b].material->constant_fields())
           constant.insert(f);
         for (const auto &f : blocks[b].material->stage_fields())
@@ -619,17 +631,25 @@ namespace perideal
                      force.begin(),
                      with_energy ? energy_density.data() : nullptr,
                      *fields};
+    // A block whose material applies its critical stretch in its own first
+    // bond pass (fused_breaking) gets it there; other damage models run their
+    // own pass first.
+    const auto block_state = [&](const unsigned int k) {
+      ModelState s = state;
+      s.breaking   = fused_breaking[k].squared_limit > 0 ? &fused_breaking[k] : nullptr;
+      return s;
+    };
     if (!broken.empty())
       {
         TimerOutput::Scope t(timer, "damage");
-        for (const auto &b : blocks)
-          if (b.damage)
-            broken_bond_count += b.damage->update(state, b.points, broken.data());
+        for (unsigned int k = 0; k < blocks.size(); ++k)
+          if (blocks[k].damage && fused_breaking[k].squared_limit == 0)
+            broken_bond_count += blocks[k].damage->update(state, blocks[k].points, broken.data());
       }
     {
       TimerOutput::Scope t(timer, "force");
-      for (const auto &b : blocks)
-        b.material->compute_stage(state, b.points);
+      for (unsigned int k = 0; k < blocks.size(); ++k)
+        blocks[k].material->compute_stage(block_state(k), blocks[k].points);
     }
     if (!ghosted_stage_fields.empty())
       {
@@ -639,9 +659,14 @@ namespace perideal
       }
     {
       TimerOutput::Scope t(timer, "force");
-      for (const auto &b : blocks)
-        b.material->compute_force(state, b.points);
+      for (unsigned int k = 0; k < blocks.size(); ++k)
+        blocks[k].material->compute_force(block_state(k), blocks[k].points);
     }
+    for (auto &b : fused_breaking)
+      {
+        broken_bond_count += b.newly_broken;
+        b.newly_broken = 0;
+      }
     if (!body_force.empty())
       for (unsigned int k = 0; k < dim * n; ++k)
         force.local_element(k) += body_force[k];
@@ -888,6 +913,8 @@ namespace perideal
     const double bonds_global = Utilities::MPI::sum(double(bonds.n_bonds()), comm);
     const double peak_sum     = peak_memory_bytes_sum(comm);
     const double peak_max     = Utilities::MPI::max(peak_memory_bytes(), comm);
+    const double startup_sum  = Utilities::MPI::sum(startup_memory, comm);
+    const double startup_max  = Utilities::MPI::max(startup_memory, comm);
     const unsigned int ranks  = Utilities::MPI::n_mpi_processes(comm);
     const double updates      = loop_seconds > 0 ? bonds_global * steps_done / loop_seconds : 0;
     const double e_ref        = std::abs(initial_energy) + std::abs(external_work);
@@ -902,7 +929,12 @@ namespace perideal
           << " M per rank)\n"
           << "  peak memory:            " << mib(peak_sum) << " over all ranks (largest rank " << mib(peak_max)
           << "); " << sci(peak_sum / std::max(1.0, bonds_global), 3) << " bytes per bond, "
-          << sci(peak_sum / std::max<double>(1, cloud.n_global()), 4) << " bytes per point\n"
+          << sci(peak_sum / std::max<double>(1, cloud.n_global()), 4) << " bytes per point\n";
+    pcout << "  scene memory:           " << mib(peak_sum - startup_sum)
+          << " over all ranks: peak minus the start-up footprint (libraries; " << mib(startup_max)
+          << " per rank); " << sci((peak_sum - startup_sum) / std::max(1.0, bonds_global), 3)
+          << " bytes per bond\n";
+    pcout
           << "  stable time step:       " << sci(dt_stable, 6) << ", used " << sci(dt, 6) << "\n";
     if (e_ref > 0)
       pcout << "  energy balance error:   "

@@ -29,10 +29,27 @@ namespace perideal
     virtual std::size_t
     update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const = 0;
 
+    /// s_c if the model breaks a bond exactly when its stretch exceeds s_c
+    /// and decides nothing else; a material may then fuse the test into its
+    /// force loop (Material::fuses_stretch_criterion()). 0 otherwise.
+    virtual double
+    critical_stretch() const
+    {
+      return 0;
+    }
+
     /// A one-line description for the set-up report.
     virtual std::string
     describe() const = 0;
   };
+
+  /// |y|^2 > stretch_squared_limit(s_c) |xi|^2 is the bond-break test, in
+  /// squared lengths (no square root); one definition for every pass using it.
+  inline double
+  stretch_squared_limit(const double critical_stretch)
+  {
+    return (1 + critical_stretch) * (1 + critical_stretch);
+  }
 
   void
   declare_damage_model_entry(ParameterHandler &prm);

@@ -57,6 +57,17 @@ namespace perideal
     std::map<std::string, VectorType> fields;
   };
 
+  /// Bond breaking by a stretch criterion, done inside a material's first bond
+  /// pass instead of a separate pass over all bonds (see Material::
+  /// fuses_stretch_criterion()). Bond b of point i breaks for good when
+  /// |y_j - y_i|^2 > squared_limit |xi|^2, before the material uses it.
+  struct StretchBreaking
+  {
+    double        squared_limit = 0; // (1 + s_c)^2
+    std::uint8_t *broken        = nullptr;
+    std::size_t   newly_broken  = 0; // bonds this evaluation broke
+  };
+
   /// What a material reads and writes in one evaluation.
   struct ModelState
   {
@@ -67,6 +78,7 @@ namespace perideal
     double             *force;  // force density, dim per owned point (added to)
     double             *energy; // strain energy density per owned point, or nullptr
     FieldStore         &fields;
+    StretchBreaking    *breaking = nullptr; // set only if the material fuses the check
   };
 
   class Material
@@ -116,6 +128,16 @@ namespace perideal
     /// and, if state.energy is set, writes its strain energy density.
     virtual void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const = 0;
+
+    /// True if the material applies state.breaking in its first bond pass
+    /// (compute_stage() if it has one, else compute_force()), with the test
+    /// exactly as written in StretchBreaking. The core then skips the
+    /// critical-stretch model's own pass over the bonds of this block.
+    virtual bool
+    fuses_stretch_criterion() const
+    {
+      return false;
+    }
 
     /// The smallest stable explicit time step over @p points, from this
     /// material's own stiffness (a Gershgorin bound of its tangent).

@@ -137,6 +137,10 @@ namespace perideal
     double      dt = 0, dt_stable = 0;
     double      external_work = 0, initial_energy = 0, last_strain_energy = 0, last_kinetic_energy = 0;
     std::size_t broken_bond_count = 0; // directed entries, this rank
+    double      startup_memory    = 0; // resident bytes before the scene is read
+    // Per block: the critical stretch its material applies in its force loop
+    // (squared_limit 0: not fused, the damage model runs its own pass).
+    std::vector<StretchBreaking> fused_breaking;
     std::vector<std::string> warnings;
     double      setup_seconds = 0;
   };
