@@ -407,6 +407,47 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "setup: mesh and points");
       scene.create_triangulation(triangulation);
+    }
+    build_points_and_bonds();
+
+    // p4est gives every rank the same number of cells, but a step costs
+    // about one unit per bond, and points near a free surface or in a small
+    // horizon have fewer bonds. Repartition with the family size as the cell
+    // weight and build again when the bonds are out of balance by more than 1%.
+    if (Utilities::MPI::n_mpi_processes(comm) > 1)
+      {
+        const auto balance = Utilities::MPI::min_max_avg(double(bonds.n_bonds()), comm);
+        if (balance.max > 1.01 * balance.avg)
+          {
+            {
+              TimerOutput::Scope t(timer, "setup: mesh and points");
+              // A cell's weight: its bonds plus a few for the per-point work
+              // (time integration, ghost exchange); cells without a point: 1.
+              for (const auto &cell : triangulation.active_cell_iterators())
+                if (cell->is_locally_owned())
+                  cell->set_user_index(1);
+              for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+                cloud.cell[i]->set_user_index(bonds.offsets[i + 1] - bonds.offsets[i] + 4);
+              const auto connection = triangulation.signals.weight.connect(
+                [](const Triangulation<dim>::cell_iterator &cell, const Triangulation<dim>::CellStatus) -> unsigned int {
+                  return cell->user_index();
+                });
+              triangulation.repartition();
+              connection.disconnect();
+            }
+            unbalanced_bonds = 100 * (balance.max / balance.avg - 1);
+            build_points_and_bonds();
+          }
+      }
+    setup_models();
+    setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void
+  Simulation::build_points_and_bonds()
+  {
+    {
+      TimerOutput::Scope t(timer, "setup: mesh and points");
       dof_handler.distribute_dofs(fe);
 
       auto block_of = [&](const CellIterator &cell) -> int {
@@ -427,6 +468,7 @@ namespace perideal
       double max_horizon = 0;
       for (const auto &b : blocks)
         max_horizon = std::max(max_horizon, b.horizon);
+      cloud = PointCloud();
       cloud.build(dof_handler, block_of, max_horizon, comm);
 
       if (cloud.n_global() == 0)
@@ -457,7 +499,11 @@ namespace perideal
         horizon[b] = blocks[b].horizon;
       bonds = find_families(cloud, horizon, comm);
     }
+  }
 
+  void
+  Simulation::setup_models()
+  {
     // A point without a neighbor cannot carry load: a horizon below the spacing.
     {
       unsigned int                 isolated = 0;
@@ -601,7 +647,6 @@ namespace perideal
                          sci(dt_stable) + " (" + sci(fixed_dt / dt_stable, 3) +
                          " times): the run may become unstable");
 
-    setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   double
@@ -888,6 +933,16 @@ namespace perideal
           << "  points:            " << cloud.n_global() << " (nonlocal ghosts: " << ghosts << ")\n"
           << "  bonds:             " << std::setprecision(12) << bonds_global
           << " (directed; family size " << min_family << " to " << max_family << ")\n";
+    if (Utilities::MPI::n_mpi_processes(comm) > 1)
+      {
+        // The bond loops dominate a step: bonds per rank is the load balance.
+        const auto minmax = Utilities::MPI::min_max_avg(double(bonds.n_bonds()), comm);
+        pcout << "  bonds per rank:    " << std::setprecision(12) << minmax.min << " to " << minmax.max
+              << " (the largest " << sci(100 * (minmax.max / minmax.avg - 1), 3) << "% above the mean";
+        if (unbalanced_bonds > 0)
+          pcout << "; " << sci(unbalanced_bonds, 3) << "% with equal cells per rank: repartitioned by bonds";
+        pcout << ")\n";
+      }
     for (const auto &b : blocks)
       pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
             << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)

@@ -70,8 +70,15 @@ namespace perideal
   private:
     void
     read_parameters(const std::string &parameter_file);
+    /// Mesh, points, bonds (rebalanced by bonds on several ranks), models.
     void
     setup();
+    /// DoFs, point cloud and families of the current partition.
+    void
+    build_points_and_bonds();
+    /// Checks the families, assigns points to blocks, initializes the models.
+    void
+    setup_models();
     void
     apply_initial_conditions();
     void
@@ -138,6 +145,7 @@ namespace perideal
     double      external_work = 0, initial_energy = 0, last_strain_energy = 0, last_kinetic_energy = 0;
     std::size_t broken_bond_count = 0; // directed entries, this rank
     double      startup_memory    = 0; // resident bytes before the scene is read
+    double      unbalanced_bonds  = 0; // % above the mean before rebalancing, 0: not needed
     // Per block: the critical stretch its material applies in its force loop
     // (squared_limit 0: not fused, the damage model runs its own pass).
     std::vector<StretchBreaking> fused_breaking;
