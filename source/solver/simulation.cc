@@ -468,7 +468,10 @@ namespace perideal
       double max_horizon = 0;
       for (const auto &b : blocks)
         max_horizon = std::max(max_horizon, b.horizon);
+      // Free the previous partition's points and bonds first: a rebuild must
+      // not raise the peak memory.
       cloud = PointCloud();
+      bonds = Bonds();
       cloud.build(dof_handler, block_of, max_horizon, comm);
 
       if (cloud.n_global() == 0)
