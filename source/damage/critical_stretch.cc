@@ -75,10 +75,10 @@ namespace perideal
               const double       dx = (X[3 * j] + u[3 * j]) - pi;
               const double       dy = (X[3 * j + 1] + u[3 * j + 1]) - qi;
               const double       dz = (X[3 * j + 2] + u[3 * j + 2]) - ri;
-              const std::uint8_t breaks =
-                (dx * dx + dy * dy + dz * dz) > factor * (ex * ex + ey * ey + ez * ez);
-              n += breaks & (1 - broken[b]);
-              broken[b] |= breaks;
+              n += break_if_overstretched(dx * dx + dy * dy + dz * dz,
+                                          ex * ex + ey * ey + ez * ez,
+                                          factor,
+                                          broken[b]);
             }
         }
       return n;

@@ -217,16 +217,6 @@ namespace perideal
     double                      omega0             = 1;
     std::vector<double>         omega; // per bond, only for a non-constant influence function
 
-    // What the dilatation pass does with bond damage: nothing (no damage
-    // model), read it, or also apply the critical stretch first (fused
-    // breaking; the force pass then reads the updated damage).
-    enum class BondDamage
-    {
-      none,
-      read,
-      breaking
-    };
-
     template <BondDamage mode, bool weighted>
     void
     dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
@@ -263,11 +253,7 @@ namespace perideal
               const double       r0sq = ex * ex + ey * ey + ez * ez;
               const double       rsq  = dx * dx + dy * dy + dz * dz;
               if (mode == BondDamage::breaking)
-                {
-                  const std::uint8_t breaks = rsq > limit * r0sq;
-                  newly_broken += breaks & (1 - broken[b]);
-                  broken[b] |= breaks;
-                }
+                newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
               const double r0 = std::sqrt(r0sq);
               const double r  = std::sqrt(rsq);
               double       w  = weighted ? w_bond[b] : omega0;

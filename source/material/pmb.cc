@@ -137,15 +137,6 @@ namespace perideal
     }
     mutable bool uniform = true, uniform_known = false;
 
-    // What the bond loop does with bond damage: nothing (no damage model),
-    // read it, or also apply the critical stretch first (fused breaking).
-    enum class BondDamage
-    {
-      none,
-      read,
-      breaking
-    };
-
     template <BondDamage mode>
     void
     dispatch(const bool uniform, const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c) const
@@ -192,11 +183,7 @@ namespace perideal
               const double       r0sq = ex * ex + ey * ey + ez * ez;
               const double       rsq  = dx * dx + dy * dy + dz * dz;
               if (mode == BondDamage::breaking)
-                {
-                  const std::uint8_t breaks = rsq > limit * r0sq;
-                  newly_broken += breaks & (1 - broken[b]);
-                  broken[b] |= breaks;
-                }
+                newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
               const double r0     = std::sqrt(r0sq);
               const double r      = std::sqrt(rsq);
               const double s      = (r - r0) / r0;

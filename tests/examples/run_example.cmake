@@ -30,16 +30,8 @@ endforeach()
 string(REPLACE "@PERIDEAL_SOURCE_DIR@" "${SOURCE_DIR}" prm "${prm}")
 file(WRITE "${WORKDIR}/case.prm" "${prm}")
 
-string(REPLACE "|" ";" run "${RUN}")
-execute_process(COMMAND ${run}
-  WORKING_DIRECTORY "${WORKDIR}"
-  OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
-file(WRITE "${WORKDIR}/run.stdout" "${out}")
-file(WRITE "${WORKDIR}/run.stderr" "${err}")
-message("---- ${RUN}\n${out}")
-if(err)
-  message("---- stderr\n${err}")
-endif()
+include("${CMAKE_CURRENT_LIST_DIR}/../run_pd_app.cmake")
+run_pd_app()
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "pd_app failed: exit code '${rc}'")
 endif()

@@ -233,6 +233,25 @@ namespace pdtest
     bool root;
   };
 
+  /// The main() of a check program: MPI, a Report for @p body, and the exit
+  /// code (0: every check passed, 1: a check failed, 2: an exception).
+  inline int
+  run_checks(int argc, char *argv[], const std::function<void(const MPI_Comm, Report &)> &body)
+  {
+    Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+    Report                           report(MPI_COMM_WORLD);
+    try
+      {
+        body(MPI_COMM_WORLD, report);
+      }
+    catch (const std::exception &e)
+      {
+        std::cerr << "Error: " << e.what() << std::endl;
+        return 2;
+      }
+    return report.finish();
+  }
+
   inline std::string
   sci(const double v, const int digits = 3)
   {

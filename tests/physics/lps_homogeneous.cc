@@ -70,155 +70,145 @@ namespace
 int
 main(int argc, char *argv[])
 {
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const MPI_Comm                   comm = MPI_COMM_WORLD;
-  Report                           report(comm);
-  try
-    {
-      const Point<3>     lower(0, 0, 0), upper(1, 1, 1);
-      const unsigned int n       = 16;
-      const double       h       = 1.0 / n;
-      const double       horizon = 3.015 * h;
-      const double       K = 2, G = 0.9;
-      Harness            harness(comm, lower, upper, {{n, n, n}}, horizon,
-                      {"LPS", {{"Density", "1"}, {"Bulk modulus", "2"}, {"Shear modulus", "0.9"}}});
-      report.line("LPS cube 16^3, horizon 3.015 h: " + std::to_string(harness.cloud.n_global()) +
-                  " points");
+  return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
+    const Point<3>     lower(0, 0, 0), upper(1, 1, 1);
+    const unsigned int n       = 16;
+    const double       h       = 1.0 / n;
+    const double       horizon = 3.015 * h;
+    const double       K = 2, G = 0.9;
+    Harness            harness(comm, lower, upper, {{n, n, n}}, horizon,
+                    {"LPS", {{"Density", "1"}, {"Bulk modulus", "2"}, {"Shear modulus", "0.9"}}});
+    report.line("LPS cube 16^3, horizon 3.015 h: " + std::to_string(harness.cloud.n_global()) +
+                " points");
 
-      const double  V       = h * h * h;
-      const Lattice lattice = complete_family(h, horizon, V);
-      report.line("complete family: " + std::to_string(lattice.xi.size()) + " bonds");
+    const double  V       = h * h * h;
+    const Lattice lattice = complete_family(h, horizon, V);
+    report.line("complete family: " + std::to_string(lattice.xi.size()) + " bonds");
 
-      Tensor<2, 3> H0;
-      const double entries[3][3] = {{1.0, 0.3, -0.2}, {0.3, -0.5, 0.4}, {-0.2, 0.4, 0.8}};
-      for (unsigned int a = 0; a < 3; ++a)
-        for (unsigned int b = 0; b < 3; ++b)
-          H0[a][b] = entries[a][b];
+    Tensor<2, 3> H0;
+    const double entries[3][3] = {{1.0, 0.3, -0.2}, {0.3, -0.5, 0.4}, {-0.2, 0.4, 0.8}};
+    for (unsigned int a = 0; a < 3; ++a)
+      for (unsigned int b = 0; b < 3; ++b)
+        H0[a][b] = entries[a][b];
 
-      std::map<double, double> error_of_scale;
-      for (const double scale : {1e-3, 1e-4, 5e-2})
-        {
-          const Tensor<2, 3> H = scale * H0;
-          // Spectral norm of the symmetric H: the largest |eigenvalue|.
-          const auto   eig   = eigenvalues(SymmetricTensor<2, 3>(H));
-          const double Hnorm = std::max({std::abs(eig[0]), std::abs(eig[1]), std::abs(eig[2])});
-          const double trH   = trace(H);
-          const double f_ref = K * std::max(Hnorm, 1e-3) / horizon;
-
-          // The exact-kinematics values of a complete family.
-          double sum_theta = 0;
-          for (const auto &x : lattice.xi)
-            sum_theta += x.norm() * ((x + H * x).norm() - x.norm()) * V;
-          const double theta_exact = 3 * sum_theta / lattice.m;
-          double       sum_dev     = 0;
-          for (const auto &x : lattice.xi)
-            {
-              const double ed = (x + H * x).norm() - x.norm() - theta_exact * x.norm() / 3;
-              sum_dev += ed * ed * V;
-            }
-          const double W_exact = 0.5 * K * theta_exact * theta_exact + 7.5 * G / lattice.m * sum_dev;
-          const Tensor<2, 3> devH = H - trH / 3 * unit_symmetric_tensor<3>();
-          const double W_continuum = 0.5 * K * trH * trH + G * scalar_product(devH, devH);
-
-          harness.set_displacement([&](const Point<3> &x) { return Tensor<1, 3>(H * Tensor<1, 3>(x)); });
-          harness.evaluate(true);
-
-          double       theta_lo = 1e300, theta_hi = -1e300, dev_theta = 0, dev_m = 0, dev_W = 0;
-          double       f_deep = 0, f_mid = 0;
-          unsigned int n_complete = 0, n_deep = 0;
-          for (unsigned int i = 0; i < harness.cloud.n_owned(); ++i)
-            {
-              const double depth = harness.depth(i, lower, upper);
-              if (depth > horizon)
-                {
-                  const double theta = harness.field("dilatation", i);
-                  theta_lo           = std::min(theta_lo, theta);
-                  theta_hi           = std::max(theta_hi, theta);
-                  dev_theta = std::max(dev_theta, std::abs(theta - theta_exact) / std::abs(theta_exact));
-                  dev_m     = std::max(dev_m, std::abs(harness.field("weighted_volume", i) - lattice.m) / lattice.m);
-                  dev_W     = std::max(dev_W, std::abs(harness.energy[i] - W_exact) / W_exact);
-                  ++n_complete;
-                  if (depth > 2 * horizon)
-                    f_deep = std::max(f_deep, harness.force_of(i).norm()), ++n_deep;
-                  else
-                    f_mid = std::max(f_mid, harness.force_of(i).norm());
-                }
-            }
-          theta_lo   = Utilities::MPI::min(theta_lo, comm);
-          theta_hi   = Utilities::MPI::max(theta_hi, comm);
-          dev_theta  = Utilities::MPI::max(dev_theta, comm);
-          dev_m      = Utilities::MPI::max(dev_m, comm);
-          dev_W      = Utilities::MPI::max(dev_W, comm);
-          f_deep     = Utilities::MPI::max(f_deep, comm);
-          f_mid      = Utilities::MPI::max(f_mid, comm);
-          n_complete = Utilities::MPI::sum(n_complete, comm);
-          n_deep     = Utilities::MPI::sum(n_deep, comm);
-
-          report.line("H = " + sci(scale) + " * H0: |H|_2 = " + sci(Hnorm, 6) + ", tr H = " + sci(trH, 6) +
-                      "; " + std::to_string(n_complete) + " points deeper than a horizon, " +
-                      std::to_string(n_deep) + " deeper than two");
-          const double err_lo = theta_lo - trH, err_hi = theta_hi - trH;
-          if (scale < 1e-2)
-            {
-              const double lo = -10 * std::pow(Hnorm, 3), hi = 1.5 * Hnorm * Hnorm + 10 * std::pow(Hnorm, 3);
-              report.check("  min (theta - tr H) / |H|^2", err_lo / (Hnorm * Hnorm), err_lo >= lo,
-                           ">= -10 |H|");
-              report.check("  max (theta - tr H) / |H|^2", err_hi / (Hnorm * Hnorm), err_hi <= hi,
-                           "<= 1.5 + 10 |H|");
-              error_of_scale[scale] = err_hi;
-            }
-          report.check("  max |theta - theta_exact| / |theta_exact|", dev_theta, dev_theta < 1e-11, "< 1e-11");
-          report.check("  max |m - m_lattice| / m_lattice", dev_m, dev_m < 1e-11, "< 1e-11");
-          report.check("  max |W - W_exact| / W_exact", dev_W, dev_W < 1e-11, "< 1e-11");
-          report.check("  max |f| / (K max(|H|, 1e-3) / horizon), deeper than 2 horizons", f_deep / f_ref,
-                       f_deep / f_ref < 1e-10, "< 1e-10");
-          report.value("  (info) max |f| / (K |H| / horizon), 1 to 2 horizons deep", f_mid / (K * Hnorm / horizon));
-          report.value("  (info) W_exact / continuum K (tr H)^2/2 + G |dev H|^2", W_exact / W_continuum);
-        }
+    std::map<double, double> error_of_scale;
+    for (const double scale : {1e-3, 1e-4, 5e-2})
       {
-        const double ratio = error_of_scale[1e-3] / error_of_scale[1e-4];
-        report.check("dilatation error ratio |H| 1e-3 : 1e-4", ratio, ratio > 90 && ratio < 110,
-                     "100 +- 10%: second order");
-      }
+        const Tensor<2, 3> H = scale * H0;
+        // Spectral norm of the symmetric H: the largest |eigenvalue|.
+        const auto   eig   = eigenvalues(SymmetricTensor<2, 3>(H));
+        const double Hnorm = std::max({std::abs(eig[0]), std::abs(eig[1]), std::abs(eig[2])});
+        const double trH   = trace(H);
+        const double f_ref = K * std::max(Hnorm, 1e-3) / horizon;
 
-      // A non-affine field: global sums for the 1 vs 2 ranks comparison.
-      const double A = 1e-3;
-      harness.set_displacement([&](const Point<3> &x) {
-        Tensor<1, 3> d;
-        d[0] = A * std::sin(2 * M_PI * (x[0] + 2 * x[1])) + A * x[2] * x[2];
-        d[1] = A * std::cos(3 * x[2] - x[0]) * x[1];
-        d[2] = A * std::sin(5 * x[0] * x[1]) - 0.5 * A * x[2];
-        return d;
-      });
-      harness.evaluate(true);
-      double sums[4] = {0, 0, 0, 0};
-      for (unsigned int i = 0; i < harness.cloud.n_owned(); ++i)
-        {
-          const double Vi = harness.cloud.volume[i];
-          sums[0] += Vi * harness.force_of(i).norm_square();
-          sums[1] += Vi * harness.energy[i];
-          sums[2] += Vi * harness.field("dilatation", i);
-          for (unsigned int d = 0; d < 3; ++d)
-            sums[3] += Vi * harness.force.local_element(3 * i + d) * harness.u.local_element(3 * i + d);
-        }
-      Utilities::MPI::sum(ArrayView<const double>(sums, 4), comm, ArrayView<double>(sums, 4));
-      const double f_ref = K * A / horizon;
-      report.line("non-affine field (for the 1 vs 2 ranks comparison):");
-      report.value("  sum V |f|^2 / f_ref^2", sums[0] / (f_ref * f_ref));
-      report.value("  sum V W / (K A^2)", sums[1] / (K * A * A));
-      report.value("  sum V theta / A", sums[2] / A);
-      report.value("  sum V f.u / (K A^2)", sums[3] / (K * A * A));
-      // For a quadratic energy U(u) the force is -grad U and u.grad U = 2 U:
-      // sum V f.u = -2 sum V W, up to the geometric nonlinearity (relative
-      // O(|grad u|) at most, |grad u| ~ 1e-2 here; measured 1.6e-5).
-      const double ratio = -sums[3] / (2 * sums[1]);
-      report.check("  -sum V f.u / (2 sum V W)", ratio, std::abs(ratio - 1) < 1e-3,
-                   "1 +- 1e-3: force consistent with the energy");
-    }
-  catch (const std::exception &e)
+        // The exact-kinematics values of a complete family.
+        double sum_theta = 0;
+        for (const auto &x : lattice.xi)
+          sum_theta += x.norm() * ((x + H * x).norm() - x.norm()) * V;
+        const double theta_exact = 3 * sum_theta / lattice.m;
+        double       sum_dev     = 0;
+        for (const auto &x : lattice.xi)
+          {
+            const double ed = (x + H * x).norm() - x.norm() - theta_exact * x.norm() / 3;
+            sum_dev += ed * ed * V;
+          }
+        const double W_exact = 0.5 * K * theta_exact * theta_exact + 7.5 * G / lattice.m * sum_dev;
+        const Tensor<2, 3> devH = H - trH / 3 * unit_symmetric_tensor<3>();
+        const double W_continuum = 0.5 * K * trH * trH + G * scalar_product(devH, devH);
+
+        harness.set_displacement([&](const Point<3> &x) { return Tensor<1, 3>(H * Tensor<1, 3>(x)); });
+        harness.evaluate(true);
+
+        double       theta_lo = 1e300, theta_hi = -1e300, dev_theta = 0, dev_m = 0, dev_W = 0;
+        double       f_deep = 0, f_mid = 0;
+        unsigned int n_complete = 0, n_deep = 0;
+        for (unsigned int i = 0; i < harness.cloud.n_owned(); ++i)
+          {
+            const double depth = harness.depth(i, lower, upper);
+            if (depth > horizon)
+              {
+                const double theta = harness.field("dilatation", i);
+                theta_lo           = std::min(theta_lo, theta);
+                theta_hi           = std::max(theta_hi, theta);
+                dev_theta = std::max(dev_theta, std::abs(theta - theta_exact) / std::abs(theta_exact));
+                dev_m     = std::max(dev_m, std::abs(harness.field("weighted_volume", i) - lattice.m) / lattice.m);
+                dev_W     = std::max(dev_W, std::abs(harness.energy[i] - W_exact) / W_exact);
+                ++n_complete;
+                if (depth > 2 * horizon)
+                  f_deep = std::max(f_deep, harness.force_of(i).norm()), ++n_deep;
+                else
+                  f_mid = std::max(f_mid, harness.force_of(i).norm());
+              }
+          }
+        theta_lo   = Utilities::MPI::min(theta_lo, comm);
+        theta_hi   = Utilities::MPI::max(theta_hi, comm);
+        dev_theta  = Utilities::MPI::max(dev_theta, comm);
+        dev_m      = Utilities::MPI::max(dev_m, comm);
+        dev_W      = Utilities::MPI::max(dev_W, comm);
+        f_deep     = Utilities::MPI::max(f_deep, comm);
+        f_mid      = Utilities::MPI::max(f_mid, comm);
+        n_complete = Utilities::MPI::sum(n_complete, comm);
+        n_deep     = Utilities::MPI::sum(n_deep, comm);
+
+        report.line("H = " + sci(scale) + " * H0: |H|_2 = " + sci(Hnorm, 6) + ", tr H = " + sci(trH, 6) +
+                    "; " + std::to_string(n_complete) + " points deeper than a horizon, " +
+                    std::to_string(n_deep) + " deeper than two");
+        const double err_lo = theta_lo - trH, err_hi = theta_hi - trH;
+        if (scale < 1e-2)
+          {
+            const double lo = -10 * std::pow(Hnorm, 3), hi = 1.5 * Hnorm * Hnorm + 10 * std::pow(Hnorm, 3);
+            report.check("  min (theta - tr H) / |H|^2", err_lo / (Hnorm * Hnorm), err_lo >= lo,
+                         ">= -10 |H|");
+            report.check("  max (theta - tr H) / |H|^2", err_hi / (Hnorm * Hnorm), err_hi <= hi,
+                         "<= 1.5 + 10 |H|");
+            error_of_scale[scale] = err_hi;
+          }
+        report.check("  max |theta - theta_exact| / |theta_exact|", dev_theta, dev_theta < 1e-11, "< 1e-11");
+        report.check("  max |m - m_lattice| / m_lattice", dev_m, dev_m < 1e-11, "< 1e-11");
+        report.check("  max |W - W_exact| / W_exact", dev_W, dev_W < 1e-11, "< 1e-11");
+        report.check("  max |f| / (K max(|H|, 1e-3) / horizon), deeper than 2 horizons", f_deep / f_ref,
+                     f_deep / f_ref < 1e-10, "< 1e-10");
+        report.value("  (info) max |f| / (K |H| / horizon), 1 to 2 horizons deep", f_mid / (K * Hnorm / horizon));
+        report.value("  (info) W_exact / continuum K (tr H)^2/2 + G |dev H|^2", W_exact / W_continuum);
+      }
     {
-      std::cerr << "Error: " << e.what() << std::endl;
-      return 2;
+      const double ratio = error_of_scale[1e-3] / error_of_scale[1e-4];
+      report.check("dilatation error ratio |H| 1e-3 : 1e-4", ratio, ratio > 90 && ratio < 110,
+                   "100 +- 10%: second order");
     }
-  return report.finish();
+
+    // A non-affine field: global sums for the 1 vs 2 ranks comparison.
+    const double A = 1e-3;
+    harness.set_displacement([&](const Point<3> &x) {
+      Tensor<1, 3> d;
+      d[0] = A * std::sin(2 * M_PI * (x[0] + 2 * x[1])) + A * x[2] * x[2];
+      d[1] = A * std::cos(3 * x[2] - x[0]) * x[1];
+      d[2] = A * std::sin(5 * x[0] * x[1]) - 0.5 * A * x[2];
+      return d;
+    });
+    harness.evaluate(true);
+    double sums[4] = {0, 0, 0, 0};
+    for (unsigned int i = 0; i < harness.cloud.n_owned(); ++i)
+      {
+        const double Vi = harness.cloud.volume[i];
+        sums[0] += Vi * harness.force_of(i).norm_square();
+        sums[1] += Vi * harness.energy[i];
+        sums[2] += Vi * harness.field("dilatation", i);
+        for (unsigned int d = 0; d < 3; ++d)
+          sums[3] += Vi * harness.force.local_element(3 * i + d) * harness.u.local_element(3 * i + d);
+      }
+    Utilities::MPI::sum(ArrayView<const double>(sums, 4), comm, ArrayView<double>(sums, 4));
+    const double f_ref = K * A / horizon;
+    report.line("non-affine field (for the 1 vs 2 ranks comparison):");
+    report.value("  sum V |f|^2 / f_ref^2", sums[0] / (f_ref * f_ref));
+    report.value("  sum V W / (K A^2)", sums[1] / (K * A * A));
+    report.value("  sum V theta / A", sums[2] / A);
+    report.value("  sum V f.u / (K A^2)", sums[3] / (K * A * A));
+    // For a quadratic energy U(u) the force is -grad U and u.grad U = 2 U:
+    // sum V f.u = -2 sum V W, up to the geometric nonlinearity (relative
+    // O(|grad u|) at most, |grad u| ~ 1e-2 here; measured 1.6e-5).
+    const double ratio = -sums[3] / (2 * sums[1]);
+    report.check("  -sum V f.u / (2 sum V W)", ratio, std::abs(ratio - 1) < 1e-3,
+                 "1 +- 1e-3: force consistent with the energy");
+  });
 }

@@ -45,131 +45,121 @@ namespace
 int
 main(int argc, char *argv[])
 {
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const MPI_Comm                   comm = MPI_COMM_WORLD;
-  Report                           report(comm);
-  try
-    {
-      const Point<3>                    lower(0.2, -0.1, 0.3), upper(1.2, 0.7, 0.9);
-      const std::array<unsigned int, 3> cells{{8, 7, 5}}; // spacings 0.125, 0.114, 0.12
-      const double                      horizon = 3.015 * 0.125;
-      const double                      K       = 2.5;
-      const double                      strain  = 1e-3;
-      const double                      f_ref   = K * strain / horizon;
-      const double                      tol     = 1e-10;
+  return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
+    const Point<3>                    lower(0.2, -0.1, 0.3), upper(1.2, 0.7, 0.9);
+    const std::array<unsigned int, 3> cells{{8, 7, 5}}; // spacings 0.125, 0.114, 0.12
+    const double                      horizon = 3.015 * 0.125;
+    const double                      K       = 2.5;
+    const double                      strain  = 1e-3;
+    const double                      f_ref   = K * strain / horizon;
+    const double                      tol     = 1e-10;
 
-      const Tensor<2, 3> I = unit_symmetric_tensor<3>();
-      Tensor<1, 3>       c;
-      c[0] = 0.3, c[1] = -0.7, c[2] = 1.1;
-      Tensor<1, 3> axis, axis_z;
-      axis[0] = 1, axis[1] = -2, axis[2] = 3;
-      axis_z[2] = 1;
-      const std::vector<Motion> motions = {
-        {"translation", I, c},
-        {"rotation 90 deg about z", rotation(axis_z, M_PI / 2), Tensor<1, 3>()},
-        {"rotation 90 deg about (1,-2,3) + translation", rotation(axis, M_PI / 2), c},
-        {"rotation 1e-3 rad about (1,-2,3)", rotation(axis, 1e-3), Tensor<1, 3>()},
-        {"rotation 2.5 rad about (1,-2,3) + translation", rotation(axis, 2.5), c}};
+    const Tensor<2, 3> I = unit_symmetric_tensor<3>();
+    Tensor<1, 3>       c;
+    c[0] = 0.3, c[1] = -0.7, c[2] = 1.1;
+    Tensor<1, 3> axis, axis_z;
+    axis[0] = 1, axis[1] = -2, axis[2] = 3;
+    axis_z[2] = 1;
+    const std::vector<Motion> motions = {
+      {"translation", I, c},
+      {"rotation 90 deg about z", rotation(axis_z, M_PI / 2), Tensor<1, 3>()},
+      {"rotation 90 deg about (1,-2,3) + translation", rotation(axis, M_PI / 2), c},
+      {"rotation 1e-3 rad about (1,-2,3)", rotation(axis, 1e-3), Tensor<1, 3>()},
+      {"rotation 2.5 rad about (1,-2,3) + translation", rotation(axis, 2.5), c}};
 
-      const std::vector<MaterialSpec> materials = {
-        {"PMB", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}}},
-        {"LPS", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}, {"Shear modulus", "1.1"}}},
-        {"LPS", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}, {"Shear modulus", "1.1"},
-                 {"Influence function", "1/r"}}}};
+    const std::vector<MaterialSpec> materials = {
+      {"PMB", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}}},
+      {"LPS", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}, {"Shear modulus", "1.1"}}},
+      {"LPS", {{"Density", "1.3"}, {"Bulk modulus", "2.5"}, {"Shear modulus", "1.1"},
+               {"Influence function", "1/r"}}}};
 
-      for (const auto &spec : materials)
-        {
-          Harness h(comm, lower, upper, cells, horizon, spec);
-          const bool lps = spec.model == "LPS";
-          std::string name = spec.model;
-          if (spec.keys.count("Influence function"))
-            name += " (omega = " + spec.keys.at("Influence function") + ")";
-          report.line(name + ": " + std::to_string(h.cloud.n_global()) + " points, " +
-                      sci(Utilities::MPI::sum(double(h.bonds.n_bonds()), comm), 8) + " bonds");
-          for (const auto &m : motions)
-            {
-              h.set_displacement([&](const Point<3> &x) {
-                return Tensor<1, 3>(m.Q * Tensor<1, 3>(x) + m.c - Tensor<1, 3>(x));
-              });
-              h.evaluate(true);
-              double f_max = 0, theta_max = 0, w_max = 0, u_max = 0;
-              for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
-                {
-                  f_max = std::max(f_max, h.force_of(i).norm());
-                  w_max = std::max(w_max, std::abs(h.energy[i]));
-                  for (unsigned int d = 0; d < 3; ++d)
-                    u_max = std::max(u_max, std::abs(h.u.local_element(3 * i + d)));
-                  if (lps)
-                    theta_max = std::max(theta_max, std::abs(h.field("dilatation", i)));
-                }
-              f_max     = Utilities::MPI::max(f_max, comm);
-              theta_max = Utilities::MPI::max(theta_max, comm);
-              w_max     = Utilities::MPI::max(w_max, comm);
-              u_max     = Utilities::MPI::max(u_max, comm);
-              report.line("  " + m.name + " (max |u| " + sci(u_max, 4) + ")");
-              report.check("    max |f| / (K 1e-3 / horizon)", f_max / f_ref, f_max / f_ref < tol,
-                           "< " + sci(tol));
-              // Energy density of a strain of 1e-3 is ~K 1e-6.
-              report.check("    max |W| / (K 1e-6)", w_max / (K * strain * strain),
-                           w_max / (K * strain * strain) < tol, "< " + sci(tol));
-              if (lps)
-                report.check("    max |dilatation| / 1e-3", theta_max / strain,
-                             theta_max / strain < tol, "< " + sci(tol));
-            }
-
-          // Objectivity under a 90 degree rotation plus translation.
-          const Motion &m = motions[2];
-          auto          u0 = [](const Point<3> &x) {
-            Tensor<1, 3> d;
-            d[0] = 1e-3 * std::sin(7 * x[1]) + 2e-3 * x[0] * x[2];
-            d[1] = -1e-3 * std::cos(5 * x[0] + x[2]);
-            d[2] = 1.5e-3 * x[1] * x[1];
-            return d;
-          };
-          h.set_displacement(u0);
-          h.evaluate(true);
-          const unsigned int        n = h.cloud.n_owned();
-          std::vector<Tensor<1, 3>> f0(n);
-          std::vector<double>       theta0(n), w0(n);
-          double                    f0_max = 0;
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              f0[i]     = h.force_of(i);
-              w0[i]     = h.energy[i];
-              theta0[i] = lps ? h.field("dilatation", i) : 0;
-              f0_max    = std::max(f0_max, f0[i].norm());
-            }
-          h.set_displacement([&](const Point<3> &x) {
-            const Tensor<1, 3> y0 = Tensor<1, 3>(x) + u0(x);
-            return Tensor<1, 3>(m.Q * y0 + m.c - Tensor<1, 3>(x));
-          });
-          h.evaluate(true);
-          double df = 0, dtheta = 0, dw = 0;
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              df = std::max(df, (h.force_of(i) - m.Q * f0[i]).norm());
-              dw = std::max(dw, std::abs(h.energy[i] - w0[i]));
-              if (lps)
-                dtheta = std::max(dtheta, std::abs(h.field("dilatation", i) - theta0[i]));
-            }
-          df     = Utilities::MPI::max(df, comm);
-          dw     = Utilities::MPI::max(dw, comm);
-          dtheta = Utilities::MPI::max(dtheta, comm);
-          f0_max = Utilities::MPI::max(f0_max, comm);
-          report.line("  objectivity: deformed state (max |f| / f_ref " + sci(f0_max / f_ref, 4) + ") and " +
-                      m.name);
-          report.check("    max |f1 - Q f0| / (K 1e-3 / horizon)", df / f_ref, df / f_ref < tol, "< " + sci(tol));
-          report.check("    max |W1 - W0| / (K 1e-6)", dw / (K * strain * strain),
-                       dw / (K * strain * strain) < tol, "< " + sci(tol));
-          if (lps)
-            report.check("    max |theta1 - theta0| / 1e-3", dtheta / strain, dtheta / strain < tol,
+    for (const auto &spec : materials)
+      {
+        Harness h(comm, lower, upper, cells, horizon, spec);
+        const bool lps = spec.model == "LPS";
+        std::string name = spec.model;
+        if (spec.keys.count("Influence function"))
+          name += " (omega = " + spec.keys.at("Influence function") + ")";
+        report.line(name + ": " + std::to_string(h.cloud.n_global()) + " points, " +
+                    sci(Utilities::MPI::sum(double(h.bonds.n_bonds()), comm), 8) + " bonds");
+        for (const auto &m : motions)
+          {
+            h.set_displacement([&](const Point<3> &x) {
+              return Tensor<1, 3>(m.Q * Tensor<1, 3>(x) + m.c - Tensor<1, 3>(x));
+            });
+            h.evaluate(true);
+            double f_max = 0, theta_max = 0, w_max = 0, u_max = 0;
+            for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
+              {
+                f_max = std::max(f_max, h.force_of(i).norm());
+                w_max = std::max(w_max, std::abs(h.energy[i]));
+                for (unsigned int d = 0; d < 3; ++d)
+                  u_max = std::max(u_max, std::abs(h.u.local_element(3 * i + d)));
+                if (lps)
+                  theta_max = std::max(theta_max, std::abs(h.field("dilatation", i)));
+              }
+            f_max     = Utilities::MPI::max(f_max, comm);
+            theta_max = Utilities::MPI::max(theta_max, comm);
+            w_max     = Utilities::MPI::max(w_max, comm);
+            u_max     = Utilities::MPI::max(u_max, comm);
+            report.line("  " + m.name + " (max |u| " + sci(u_max, 4) + ")");
+            report.check("    max |f| / (K 1e-3 / horizon)", f_max / f_ref, f_max / f_ref < tol,
                          "< " + sci(tol));
-        }
-    }
-  catch (const std::exception &e)
-    {
-      std::cerr << "Error: " << e.what() << std::endl;
-      return 2;
-    }
-  return report.finish();
+            // Energy density of a strain of 1e-3 is ~K 1e-6.
+            report.check("    max |W| / (K 1e-6)", w_max / (K * strain * strain),
+                         w_max / (K * strain * strain) < tol, "< " + sci(tol));
+            if (lps)
+              report.check("    max |dilatation| / 1e-3", theta_max / strain,
+                           theta_max / strain < tol, "< " + sci(tol));
+          }
+
+        // Objectivity under a 90 degree rotation plus translation.
+        const Motion &m = motions[2];
+        auto          u0 = [](const Point<3> &x) {
+          Tensor<1, 3> d;
+          d[0] = 1e-3 * std::sin(7 * x[1]) + 2e-3 * x[0] * x[2];
+          d[1] = -1e-3 * std::cos(5 * x[0] + x[2]);
+          d[2] = 1.5e-3 * x[1] * x[1];
+          return d;
+        };
+        h.set_displacement(u0);
+        h.evaluate(true);
+        const unsigned int        n = h.cloud.n_owned();
+        std::vector<Tensor<1, 3>> f0(n);
+        std::vector<double>       theta0(n), w0(n);
+        double                    f0_max = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            f0[i]     = h.force_of(i);
+            w0[i]     = h.energy[i];
+            theta0[i] = lps ? h.field("dilatation", i) : 0;
+            f0_max    = std::max(f0_max, f0[i].norm());
+          }
+        h.set_displacement([&](const Point<3> &x) {
+          const Tensor<1, 3> y0 = Tensor<1, 3>(x) + u0(x);
+          return Tensor<1, 3>(m.Q * y0 + m.c - Tensor<1, 3>(x));
+        });
+        h.evaluate(true);
+        double df = 0, dtheta = 0, dw = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            df = std::max(df, (h.force_of(i) - m.Q * f0[i]).norm());
+            dw = std::max(dw, std::abs(h.energy[i] - w0[i]));
+            if (lps)
+              dtheta = std::max(dtheta, std::abs(h.field("dilatation", i) - theta0[i]));
+          }
+        df     = Utilities::MPI::max(df, comm);
+        dw     = Utilities::MPI::max(dw, comm);
+        dtheta = Utilities::MPI::max(dtheta, comm);
+        f0_max = Utilities::MPI::max(f0_max, comm);
+        report.line("  objectivity: deformed state (max |f| / f_ref " + sci(f0_max / f_ref, 4) + ") and " +
+                    m.name);
+        report.check("    max |f1 - Q f0| / (K 1e-3 / horizon)", df / f_ref, df / f_ref < tol, "< " + sci(tol));
+        report.check("    max |W1 - W0| / (K 1e-6)", dw / (K * strain * strain),
+                     dw / (K * strain * strain) < tol, "< " + sci(tol));
+        if (lps)
+          report.check("    max |theta1 - theta0| / 1e-3", dtheta / strain, dtheta / strain < tol,
+                       "< " + sci(tol));
+      }
+  });
 }

@@ -16,16 +16,8 @@ endforeach()
 file(REMOVE_RECURSE "${WORKDIR}")
 file(MAKE_DIRECTORY "${WORKDIR}")
 
-string(REPLACE "|" ";" run "${RUN}")
-execute_process(COMMAND ${run}
-  WORKING_DIRECTORY "${WORKDIR}"
-  OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
-file(WRITE "${WORKDIR}/run.stdout" "${out}")
-file(WRITE "${WORKDIR}/run.stderr" "${err}")
-message("---- ${RUN}\n${out}")
-if(err)
-  message("---- stderr\n${err}")
-endif()
+include("${CMAKE_CURRENT_LIST_DIR}/../run_pd_app.cmake")
+run_pd_app()
 message("---- exit code ${rc}")
 
 if(EXPECT STREQUAL "success" AND NOT rc EQUAL 0)

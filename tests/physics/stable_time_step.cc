@@ -46,143 +46,133 @@ namespace
 int
 main(int argc, char *argv[])
 {
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const MPI_Comm                   comm = MPI_COMM_WORLD;
-  Report                           report(comm);
-  try
-    {
-      const auto lps = [](const std::string &K, const std::string &G, const std::string &omega = "1") {
-        return MaterialSpec{"LPS", {{"Density", "1.5"}, {"Bulk modulus", K}, {"Shear modulus", G},
-                                    {"Influence function", omega}}};
-      };
-      const std::vector<Case> cases = {
-        {"LPS cube 8^3, horizon 3.015 h, nu = 0.25", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
-         lps("1", "0.6"), 0},
-        {"LPS cube 8^3, horizon 3.015 h, nu = 0 (3K - 5G < 0)", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
-         lps("1", "1.5"), 0},
-        {"LPS cube 8^3, horizon 3.015 h, nu = 0.45", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
-         lps("1", "0.1034"), 0},
-        {"LPS cube 8^3, horizon 3.015 h, omega = 1/r", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
-         lps("1", "0.6", "1/r"), 0},
-        {"LPS cube 6^3, horizon 1.5 h", {0, 0, 0}, {1, 1, 1}, {{6, 6, 6}}, 1.5, lps("1", "0.6"), 0},
-        {"LPS two points, horizon 1.5 h, nu = 0.25", {0, 0, 0}, {2, 1, 1}, {{2, 1, 1}}, 1.5, lps("1", "0.6"), 0},
-        {"LPS two points, horizon 1.5 h, nu = 0", {0, 0, 0}, {2, 1, 1}, {{2, 1, 1}}, 1.5, lps("1", "1.5"), 0},
-        {"LPS four points in a row, horizon 2.5 h, nu = 0.45", {0, 0, 0}, {4, 1, 1}, {{4, 1, 1}}, 2.5,
-         lps("1", "0.1034"), 0},
-        {"LPS bar 12x3x2, anisotropic cells", {0, 0, 0}, {1, 0.2, 0.15}, {{12, 3, 2}}, 3.015,
-         lps("1", "0.6"), 0},
-        // The scene of the pd_app stability tests (lps_bar_*.prm).
-        {"LPS bar 24x4x4 (pd_app stability scene)", {0, 0, 0}, {1, 1.0 / 6, 1.0 / 6}, {{24, 4, 4}}, 3.015,
-         MaterialSpec{"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.6"}}}, 1.0 / 3},
-        {"PMB cube 8^3, horizon 3.015 h", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
-         MaterialSpec{"PMB", {{"Density", "1.5"}, {"Bulk modulus", "1"}}}, 0},
-      };
+  return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
+    const auto lps = [](const std::string &K, const std::string &G, const std::string &omega = "1") {
+      return MaterialSpec{"LPS", {{"Density", "1.5"}, {"Bulk modulus", K}, {"Shear modulus", G},
+                                  {"Influence function", omega}}};
+    };
+    const std::vector<Case> cases = {
+      {"LPS cube 8^3, horizon 3.015 h, nu = 0.25", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
+       lps("1", "0.6"), 0},
+      {"LPS cube 8^3, horizon 3.015 h, nu = 0 (3K - 5G < 0)", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
+       lps("1", "1.5"), 0},
+      {"LPS cube 8^3, horizon 3.015 h, nu = 0.45", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
+       lps("1", "0.1034"), 0},
+      {"LPS cube 8^3, horizon 3.015 h, omega = 1/r", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
+       lps("1", "0.6", "1/r"), 0},
+      {"LPS cube 6^3, horizon 1.5 h", {0, 0, 0}, {1, 1, 1}, {{6, 6, 6}}, 1.5, lps("1", "0.6"), 0},
+      {"LPS two points, horizon 1.5 h, nu = 0.25", {0, 0, 0}, {2, 1, 1}, {{2, 1, 1}}, 1.5, lps("1", "0.6"), 0},
+      {"LPS two points, horizon 1.5 h, nu = 0", {0, 0, 0}, {2, 1, 1}, {{2, 1, 1}}, 1.5, lps("1", "1.5"), 0},
+      {"LPS four points in a row, horizon 2.5 h, nu = 0.45", {0, 0, 0}, {4, 1, 1}, {{4, 1, 1}}, 2.5,
+       lps("1", "0.1034"), 0},
+      {"LPS bar 12x3x2, anisotropic cells", {0, 0, 0}, {1, 0.2, 0.15}, {{12, 3, 2}}, 3.015,
+       lps("1", "0.6"), 0},
+      // The scene of the pd_app stability tests (lps_bar_*.prm).
+      {"LPS bar 24x4x4 (pd_app stability scene)", {0, 0, 0}, {1, 1.0 / 6, 1.0 / 6}, {{24, 4, 4}}, 3.015,
+       MaterialSpec{"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.6"}}}, 1.0 / 3},
+      {"PMB cube 8^3, horizon 3.015 h", {0, 0, 0}, {1, 1, 1}, {{8, 8, 8}}, 3.015,
+       MaterialSpec{"PMB", {{"Density", "1.5"}, {"Bulk modulus", "1"}}}, 0},
+    };
 
-      const unsigned int iterations = 60;
-      for (const auto &c : cases)
-        {
-          const double h = std::min({(c.upper[0] - c.lower[0]) / c.cells[0],
-                                     (c.upper[1] - c.lower[1]) / c.cells[1],
-                                     (c.upper[2] - c.lower[2]) / c.cells[2]});
-          Harness      harness(comm, c.lower, c.upper, c.cells, c.horizon_over_h * h, c.material);
-          const double rho    = harness.material->density();
-          const double dt_est = harness.stable_time_step();
-          const unsigned int n = harness.cloud.n_owned();
+    const unsigned int iterations = 60;
+    for (const auto &c : cases)
+      {
+        const double h = std::min({(c.upper[0] - c.lower[0]) / c.cells[0],
+                                   (c.upper[1] - c.lower[1]) / c.cells[1],
+                                   (c.upper[2] - c.lower[2]) / c.cells[2]});
+        Harness      harness(comm, c.lower, c.upper, c.cells, c.horizon_over_h * h, c.material);
+        const double rho    = harness.material->density();
+        const double dt_est = harness.stable_time_step();
+        const unsigned int n = harness.cloud.n_owned();
 
-          std::vector<double> v(3 * n), plus(3 * n), w(3 * n);
-          for (unsigned int i = 0; i < n; ++i)
-            for (unsigned int d = 0; d < 3; ++d)
-              v[3 * i + d] = pseudo_random(harness.cloud.position(i), d);
-          const double eps = 1e-6 * h;
-          auto         mass_dot = [&](const std::vector<double> &a, const std::vector<double> &b) {
-            double s = 0;
-            for (unsigned int k = 0; k < 3 * n; ++k)
-              s += rho * harness.cloud.volume[k / 3] * a[k] * b[k];
-            return Utilities::MPI::sum(s, comm);
-          };
-          auto apply = [&](const std::vector<double> &x, std::vector<double> &y) {
-            // y = -(1/rho) dF/du x, central differences about u = 0.
-            double xmax = 0;
-            for (const double e : x)
-              xmax = std::max(xmax, std::abs(e));
-            const double scale = eps / Utilities::MPI::max(xmax, comm);
-            for (unsigned int k = 0; k < 3 * n; ++k)
-              w[k] = scale * x[k];
-            harness.set_displacement(w);
-            harness.evaluate(false);
-            for (unsigned int k = 0; k < 3 * n; ++k)
-              plus[k] = harness.force.local_element(k);
-            for (unsigned int k = 0; k < 3 * n; ++k)
-              w[k] = -scale * x[k];
-            harness.set_displacement(w);
-            harness.evaluate(false);
-            y.resize(3 * n);
-            for (unsigned int k = 0; k < 3 * n; ++k)
-              y[k] = -(plus[k] - harness.force.local_element(k)) / (2 * scale * rho);
-          };
-          // Lanczos in the mass inner product (A is self-adjoint in it), with
-          // full reorthogonalization; the largest Ritz value of the
-          // tridiagonal matrix approaches lambda_max from below.
-          std::vector<std::vector<double>> Q;
-          std::vector<double>              alpha, beta;
-          auto                             top_ritz = [&](const unsigned int k) {
-            LAPACKFullMatrix<double> T(k, k);
-            for (unsigned int j = 0; j < k; ++j)
-              {
-                T(j, j) = alpha[j];
-                if (j + 1 < k)
-                  T(j, j + 1) = T(j + 1, j) = beta[j];
-              }
-            T.compute_eigenvalues();
-            double top = 0;
-            for (unsigned int j = 0; j < k; ++j)
-              top = std::max(top, T.eigenvalue(j).real());
-            return top;
-          };
-          {
-            const double norm = std::sqrt(mass_dot(v, v));
-            for (auto &e : v)
-              e /= norm;
-          }
-          std::vector<double> Aq;
-          for (unsigned int j = 0; j < iterations; ++j)
+        std::vector<double> v(3 * n), plus(3 * n), w(3 * n);
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int d = 0; d < 3; ++d)
+            v[3 * i + d] = pseudo_random(harness.cloud.position(i), d);
+        const double eps = 1e-6 * h;
+        auto         mass_dot = [&](const std::vector<double> &a, const std::vector<double> &b) {
+          double s = 0;
+          for (unsigned int k = 0; k < 3 * n; ++k)
+            s += rho * harness.cloud.volume[k / 3] * a[k] * b[k];
+          return Utilities::MPI::sum(s, comm);
+        };
+        auto apply = [&](const std::vector<double> &x, std::vector<double> &y) {
+          // y = -(1/rho) dF/du x, central differences about u = 0.
+          double xmax = 0;
+          for (const double e : x)
+            xmax = std::max(xmax, std::abs(e));
+          const double scale = eps / Utilities::MPI::max(xmax, comm);
+          for (unsigned int k = 0; k < 3 * n; ++k)
+            w[k] = scale * x[k];
+          harness.set_displacement(w);
+          harness.evaluate(false);
+          for (unsigned int k = 0; k < 3 * n; ++k)
+            plus[k] = harness.force.local_element(k);
+          for (unsigned int k = 0; k < 3 * n; ++k)
+            w[k] = -scale * x[k];
+          harness.set_displacement(w);
+          harness.evaluate(false);
+          y.resize(3 * n);
+          for (unsigned int k = 0; k < 3 * n; ++k)
+            y[k] = -(plus[k] - harness.force.local_element(k)) / (2 * scale * rho);
+        };
+        // Lanczos in the mass inner product (A is self-adjoint in it), with
+        // full reorthogonalization; the largest Ritz value of the
+        // tridiagonal matrix approaches lambda_max from below.
+        std::vector<std::vector<double>> Q;
+        std::vector<double>              alpha, beta;
+        auto                             top_ritz = [&](const unsigned int k) {
+          LAPACKFullMatrix<double> T(k, k);
+          for (unsigned int j = 0; j < k; ++j)
             {
-              Q.push_back(v);
-              apply(Q.back(), Aq);
-              alpha.push_back(mass_dot(Aq, Q.back()));
-              for (unsigned int pass = 0; pass < 2; ++pass)
-                for (const auto &q : Q)
-                  {
-                    const double c = mass_dot(Aq, q);
-                    for (unsigned int k = 0; k < 3 * n; ++k)
-                      Aq[k] -= c * q[k];
-                  }
-              const double b = std::sqrt(mass_dot(Aq, Aq));
-              if (b < 1e-12 * std::abs(alpha.back()) || Q.size() == 3 * harness.cloud.n_global())
-                break; // an invariant subspace: the Ritz values are eigenvalues
-              beta.push_back(b);
-              for (unsigned int k = 0; k < 3 * n; ++k)
-                v[k] = Aq[k] / b;
+              T(j, j) = alpha[j];
+              if (j + 1 < k)
+                T(j, j + 1) = T(j + 1, j) = beta[j];
             }
-          const double lambda      = top_ritz(alpha.size());
-          const double lambda_half = top_ritz((alpha.size() + 1) / 2);
-          const double dt_true = 2 / std::sqrt(lambda);
-          const double ratio   = dt_est / dt_true;
-          const double settled = std::abs(lambda - lambda_half) / lambda;
-          report.line(c.name + ": " + std::to_string(harness.cloud.n_global()) + " points");
-          report.value("  dt_est", dt_est);
-          report.value("  dt_true = 2/sqrt(lambda_max)", dt_true);
-          report.check("  dt_est / dt_true", ratio,
-                       ratio <= 1 + 1e-9 && (c.min_ratio == 0 || ratio > c.min_ratio),
-                       c.min_ratio == 0 ? "<= 1 + 1e-9: conservative" :
-                                          "in (1/3, 1 + 1e-9]: conservative, and 3 dt_est unstable");
-          report.check("  change of lambda_max over the last half of the Lanczos steps", settled, settled < 1e-3, "< 1e-3");
+          T.compute_eigenvalues();
+          double top = 0;
+          for (unsigned int j = 0; j < k; ++j)
+            top = std::max(top, T.eigenvalue(j).real());
+          return top;
+        };
+        {
+          const double norm = std::sqrt(mass_dot(v, v));
+          for (auto &e : v)
+            e /= norm;
         }
-    }
-  catch (const std::exception &e)
-    {
-      std::cerr << "Error: " << e.what() << std::endl;
-      return 2;
-    }
-  return report.finish();
+        std::vector<double> Aq;
+        for (unsigned int j = 0; j < iterations; ++j)
+          {
+            Q.push_back(v);
+            apply(Q.back(), Aq);
+            alpha.push_back(mass_dot(Aq, Q.back()));
+            for (unsigned int pass = 0; pass < 2; ++pass)
+              for (const auto &q : Q)
+                {
+                  const double c = mass_dot(Aq, q);
+                  for (unsigned int k = 0; k < 3 * n; ++k)
+                    Aq[k] -= c * q[k];
+                }
+            const double b = std::sqrt(mass_dot(Aq, Aq));
+            if (b < 1e-12 * std::abs(alpha.back()) || Q.size() == 3 * harness.cloud.n_global())
+              break; // an invariant subspace: the Ritz values are eigenvalues
+            beta.push_back(b);
+            for (unsigned int k = 0; k < 3 * n; ++k)
+              v[k] = Aq[k] / b;
+          }
+        const double lambda      = top_ritz(alpha.size());
+        const double lambda_half = top_ritz((alpha.size() + 1) / 2);
+        const double dt_true = 2 / std::sqrt(lambda);
+        const double ratio   = dt_est / dt_true;
+        const double settled = std::abs(lambda - lambda_half) / lambda;
+        report.line(c.name + ": " + std::to_string(harness.cloud.n_global()) + " points");
+        report.value("  dt_est", dt_est);
+        report.value("  dt_true = 2/sqrt(lambda_max)", dt_true);
+        report.check("  dt_est / dt_true", ratio,
+                     ratio <= 1 + 1e-9 && (c.min_ratio == 0 || ratio > c.min_ratio),
+                     c.min_ratio == 0 ? "<= 1 + 1e-9: conservative" :
+                                        "in (1/3, 1 + 1e-9]: conservative, and 3 dt_est unstable");
+        report.check("  change of lambda_max over the last half of the Lanczos steps", settled, settled < 1e-3, "< 1e-3");
+      }
+  });
 }

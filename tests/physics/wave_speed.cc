@@ -108,31 +108,21 @@ namespace
 int
 main(int argc, char *argv[])
 {
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const MPI_Comm                   comm = MPI_COMM_WORLD;
-  Report                           report(comm);
-  try
-    {
-      const double K = 1, G = 0.375, W = 0.2, L = 1;
-      const double nu   = (3 * K - 2 * G) / (2 * (3 * K + G));
-      const double c_RL = 1 - nu * nu * M_PI * M_PI * (W * W / 6) / (2 * L * L);
-      report.line("LPS bar 1 x 0.2 x 0.2, nu = 1/3, sqrt(E/rho) = 1; Rayleigh-Love c_RL = " + sci(c_RL, 6));
-      std::vector<Measurement> m;
-      for (const unsigned int ny : {6u, 10u})
-        {
-          m.push_back(measure(comm, report, ny, K, G));
-          const double upper = 1 + 0.5 * m.back().delta / W;
-          report.check("  c / sqrt(E/rho)", m.back().c, m.back().c > c_RL && m.back().c < upper,
-                       "in (c_RL, 1 + 0.5 delta/0.2 = " + sci(upper, 4) + "): surface stiffening");
-        }
-      const double c_limit = m[1].c - (m[0].c - m[1].c) / (m[0].delta - m[1].delta) * m[1].delta;
-      report.check("extrapolated to delta -> 0: c / c_RL", c_limit / c_RL, std::abs(c_limit / c_RL - 1) < 0.01,
-                   "1 +- 0.01");
-    }
-  catch (const std::exception &e)
-    {
-      std::cerr << "Error: " << e.what() << std::endl;
-      return 2;
-    }
-  return report.finish();
+  return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
+    const double K = 1, G = 0.375, W = 0.2, L = 1;
+    const double nu   = (3 * K - 2 * G) / (2 * (3 * K + G));
+    const double c_RL = 1 - nu * nu * M_PI * M_PI * (W * W / 6) / (2 * L * L);
+    report.line("LPS bar 1 x 0.2 x 0.2, nu = 1/3, sqrt(E/rho) = 1; Rayleigh-Love c_RL = " + sci(c_RL, 6));
+    std::vector<Measurement> m;
+    for (const unsigned int ny : {6u, 10u})
+      {
+        m.push_back(measure(comm, report, ny, K, G));
+        const double upper = 1 + 0.5 * m.back().delta / W;
+        report.check("  c / sqrt(E/rho)", m.back().c, m.back().c > c_RL && m.back().c < upper,
+                     "in (c_RL, 1 + 0.5 delta/0.2 = " + sci(upper, 4) + "): surface stiffening");
+      }
+    const double c_limit = m[1].c - (m[0].c - m[1].c) / (m[0].delta - m[1].delta) * m[1].delta;
+    report.check("extrapolated to delta -> 0: c / c_RL", c_limit / c_RL, std::abs(c_limit / c_RL - 1) < 0.01,
+                 "1 +- 0.01");
+  });
 }

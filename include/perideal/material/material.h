@@ -68,6 +68,29 @@ namespace perideal
     std::size_t   newly_broken  = 0; // bonds this evaluation broke
   };
 
+  /// The bond-break test of StretchBreaking for one bond, from its squared
+  /// deformed and reference lengths: breaks it for good if y_sq >
+  /// squared_limit xi_sq and returns 1 if it broke now. Every pass that applies
+  /// a critical stretch (the damage model's own, or fused into a material's
+  /// bond loop) uses this one definition, so they decide alike bit for bit.
+  inline std::uint8_t
+  break_if_overstretched(const double y_sq, const double xi_sq, const double squared_limit, std::uint8_t &broken)
+  {
+    const std::uint8_t breaks = y_sq > squared_limit * xi_sq;
+    const std::uint8_t newly  = breaks & (1 - broken);
+    broken |= breaks;
+    return newly;
+  }
+
+  /// What a material's bond loop does with bond damage: nothing (no damage
+  /// model), read it, or also apply StretchBreaking first (fused breaking).
+  enum class BondDamage
+  {
+    none,
+    read,
+    breaking
+  };
+
   /// What a material reads and writes in one evaluation.
   struct ModelState
   {
