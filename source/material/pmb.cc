@@ -59,7 +59,6 @@ namespace perideal
     initialize(const ModelState &state, const std::vector<unsigned int> &points) override
     {
       VectorType &c = state.fields.get("pmb_micromodulus");
-      uniform_known = false;
       for (const unsigned int i : points)
         c.local_element(i) = micromodulus();
     }
@@ -75,7 +74,7 @@ namespace perideal
     {
       const VectorType &c_field = state.fields.get("pmb_micromodulus");
       // One micromodulus in the whole family (the common case): the plain loop.
-      const bool uniform = uniform_neighborhood(c_field);
+      const bool uniform = uniform_neighborhood(state, points, c_field);
       // Compile-time variants keep the bond loop free of branches.
       if (state.breaking)
         dispatch<BondDamage::breaking>(uniform, state, points, c_field);
@@ -121,19 +120,18 @@ namespace perideal
     double rho = 0, K = 0;
 
     bool
-    uniform_neighborhood(const VectorType &c) const
+    uniform_neighborhood(const ModelState                &state,
+                         const std::vector<unsigned int> &points,
+                         const VectorType                &c) const
     {
-      // Decided once (the field is constant after set-up), and for every
-      // point list alike: uniform if every PMB point on this rank, owned or
-      // ghost, has this block's micromodulus (other models' points hold 0
-      // and are never neighbors, see Simulation::setup_models()).
+      // Decided once: the field is constant after set-up.
       if (uniform_known)
         return uniform;
-      uniform                  = true;
-      const unsigned int local = c.get_partitioner()->locally_owned_size() + c.get_partitioner()->n_ghost_indices();
-      for (unsigned int i = 0; i < local; ++i)
-        if (c.local_element(i) != 0 && c.local_element(i) != micromodulus())
-          uniform = false;
+      uniform = true;
+      for (const unsigned int i : points)
+        for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+          if (c.local_element(state.bonds.neighbor[b]) != micromodulus())
+            uniform = false;
       uniform_known = true;
       return uniform;
     }

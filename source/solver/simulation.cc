@@ -124,12 +124,6 @@ namespace perideal
     prm.declare_entry("Energy growth limit", "10", Patterns::Double(1),
                       "Stop when the kinetic energy exceeds this factor times (initial kinetic + "
                       "strain energy + work of external forces): the run is unstable.");
-    prm.declare_entry("Check interval", "10", Patterns::Integer(1),
-                      "Steps between the checks for a non-finite or exploding state (a global sum "
-                      "over all ranks); output steps and the last step are checked too. A failed "
-                      "check names the first non-finite step and writes the state of the last "
-                      "passed check. 1 checks every step, at the price of making the ranks wait for "
-                      "each other every step.");
     prm.enter_subsection("Verlet");
     prm.declare_entry("Fixed dt", "0", Patterns::Double(0), "Time step; 0: Safety factor times the smallest stable estimate over all points.");
     prm.declare_entry("Safety factor", "0.8", Patterns::Double(0, 1), "Fraction of the stable time step used when Fixed dt is 0.");
@@ -388,7 +382,6 @@ namespace perideal
     final_time          = prm.get_double("Final time");
     requested_steps     = prm.get_integer("Number of steps");
     energy_growth_limit = prm.get_double("Energy growth limit");
-    check_interval      = prm.get_integer("Check interval");
     prm.enter_subsection("Verlet");
     fixed_dt      = prm.get_double("Fixed dt");
     safety_factor = prm.get_double("Safety factor");
@@ -544,20 +537,9 @@ namespace perideal
     }
 
     for (auto &block : blocks)
-      {
-        block.points.clear();
-        block.interior_points.clear();
-        block.boundary_points.clear();
-      }
+      block.points.clear();
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      {
-        Block &block = blocks[cloud.block[i]];
-        block.points.push_back(i);
-        bool has_ghost = false;
-        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-          has_ghost |= bonds.neighbor[b] >= cloud.n_owned();
-        (has_ghost ? block.boundary_points : block.interior_points).push_back(i);
-      }
+      blocks[cloud.block[i]].points.push_back(i);
 
     // Bonds between blocks of different models cannot be evaluated by either.
     {
@@ -628,10 +610,6 @@ namespace perideal
     for (const auto &f : stage)
       fields->get(f); // allocate before the loop: no allocation per step
     ghosted_stage_fields.assign(stage.begin(), stage.end());
-    displacement_exchange = std::make_unique<GhostExchange>(cloud.vector_partitioner, 101);
-    stage_exchanges.clear();
-    for (unsigned int f = 0; f < ghosted_stage_fields.size(); ++f)
-      stage_exchanges.push_back(std::make_unique<GhostExchange>(cloud.scalar_partitioner, 102 + f));
 
     // Conditions: their points, the constraints, the body force.
     for (auto &bc : conditions)
@@ -690,23 +668,6 @@ namespace perideal
   void
   Simulation::compute_forces(const bool with_energy)
   {
-    // The ghost exchanges overlap the bond loops: the interior points (no
-    // ghost neighbor) run while the ghost values are in flight, the boundary
-    // points after they arrived. A rank then waits for another only when that
-    // one is behind by more than an interior pass, not at every small jitter.
-    {
-      TimerOutput::Scope t(timer, "ghost exchange");
-      displacement_exchange->start(displacement.begin());
-    }
-    bool       ghosts_arrived = false;
-    const auto finish_ghost_exchange = [&]() {
-      if (ghosts_arrived)
-        return;
-      TimerOutput::Scope t(timer, "ghost exchange");
-      displacement_exchange->finish();
-      ghosts_arrived = true;
-    };
-
     const unsigned int n = cloud.n_owned();
     std::fill(force.begin(), force.begin() + dim * n, 0.0);
     if (with_energy)
@@ -727,48 +688,28 @@ namespace perideal
       return s;
     };
     if (!broken.empty())
-      for (unsigned int k = 0; k < blocks.size(); ++k)
-        if (blocks[k].damage && fused_breaking[k].squared_limit == 0)
-          {
-            finish_ghost_exchange();
-            TimerOutput::Scope t(timer, "damage");
+      {
+        TimerOutput::Scope t(timer, "damage");
+        for (unsigned int k = 0; k < blocks.size(); ++k)
+          if (blocks[k].damage && fused_breaking[k].squared_limit == 0)
             broken_bond_count += blocks[k].damage->update(state, blocks[k].points, broken.data());
-          }
-    using PointList  = std::vector<unsigned int> Block::*;
-    const auto stage = [&](const PointList points) {
+      }
+    {
       TimerOutput::Scope t(timer, "force");
       for (unsigned int k = 0; k < blocks.size(); ++k)
-        blocks[k].material->compute_stage(block_state(k), blocks[k].*points);
-    };
-    const auto force_pass = [&](const PointList points) {
+        blocks[k].material->compute_stage(block_state(k), blocks[k].points);
+    }
+    if (!ghosted_stage_fields.empty())
+      {
+        TimerOutput::Scope t(timer, "ghost exchange");
+        for (const auto &f : ghosted_stage_fields)
+          fields->get(f).update_ghost_values();
+      }
+    {
       TimerOutput::Scope t(timer, "force");
       for (unsigned int k = 0; k < blocks.size(); ++k)
-        blocks[k].material->compute_force(block_state(k), blocks[k].*points);
-    };
-    if (ghosted_stage_fields.empty())
-      {
-        force_pass(&Block::interior_points);
-        finish_ghost_exchange();
-        force_pass(&Block::boundary_points);
-      }
-    else
-      {
-        stage(&Block::interior_points);
-        finish_ghost_exchange();
-        stage(&Block::boundary_points);
-        {
-          TimerOutput::Scope t(timer, "ghost exchange");
-          for (unsigned int f = 0; f < ghosted_stage_fields.size(); ++f)
-            stage_exchanges[f]->start(fields->get(ghosted_stage_fields[f]).begin());
-        }
-        force_pass(&Block::interior_points);
-        {
-          TimerOutput::Scope t(timer, "ghost exchange");
-          for (auto &exchange : stage_exchanges)
-            exchange->finish();
-        }
-        force_pass(&Block::boundary_points);
-      }
+        blocks[k].material->compute_force(block_state(k), blocks[k].points);
+    }
     for (auto &b : fused_breaking)
       {
         broken_bond_count += b.newly_broken;
@@ -796,7 +737,14 @@ namespace perideal
               bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
         }
     if (!body_force.empty())
-      update_body_force(initial_time);
+      {
+        std::fill(body_force.begin(), body_force.end(), 0.0);
+        for (const auto &bc : conditions)
+          if (bc.type == BoundaryCondition::Type::body_force)
+            for (const unsigned int i : bc.points)
+              body_force[dim * i + bc.component] +=
+                bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
+      }
     // A condition whose expression is not finite at one of its points.
     unsigned int bad = 0;
     for (unsigned int c = 0; c < conditions.size() && bad == 0; ++c)
@@ -818,21 +766,6 @@ namespace perideal
                 ExcMessage("Boundary conditions/" + conditions[bad - 1].name + "/Value: '" +
                            conditions[bad - 1].value->text() + "' is not finite at some of its points at t = " +
                            sci(time, 6)));
-  }
-
-  void
-  Simulation::update_body_force(const double time)
-  {
-    std::fill(body_force.begin(), body_force.end(), 0.0);
-    for (unsigned int c = 0; c < conditions.size(); ++c)
-      if (conditions[c].type == BoundaryCondition::Type::body_force)
-        for (const unsigned int i : conditions[c].points)
-          {
-            const double value = conditions[c].value->value(cloud.position(i), time, cloud.hash(i));
-            if (!std::isfinite(value) && bad_condition == 0)
-              bad_condition = c + 1;
-            body_force[dim * i + conditions[c].component] += value;
-          }
   }
 
   void
@@ -1111,66 +1044,6 @@ namespace perideal
   }
 
   void
-  Simulation::stop_if_unstable(const unsigned int  step,
-                               const double        kinetic_energy,
-                               const unsigned int  last_good_step,
-                               std::vector<double> &u_good,
-                               std::vector<double> &v_good)
-  {
-    const double reference = std::abs(initial_energy) + std::abs(external_work);
-    const bool   nonfinite = !std::isfinite(kinetic_energy);
-    const bool   exploding = !nonfinite && kinetic_energy > 0 && kinetic_energy > energy_growth_limit * reference;
-    if (!nonfinite && !exploding)
-      return;
-    const double time = initial_time + step * dt;
-    std::string  where = nonfinite ? locate_nonfinite() : "";
-    if (exploding)
-      {
-        // The fastest point now.
-        const unsigned int      n    = cloud.n_owned();
-        const double           *v    = velocity.begin();
-        double                  vmax = 0;
-        std::array<double, dim> x{{0, 0, 0}};
-        for (unsigned int i = 0; i < n; ++i)
-          {
-            const double s = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
-            if (s > vmax)
-              vmax = s, x = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2]}};
-          }
-        const double global = Utilities::MPI::max(vmax, comm);
-        if (vmax != global)
-          x = {{0, 0, 0}};
-        const double owners = Utilities::MPI::sum(vmax == global ? 1.0 : 0.0, comm);
-        Utilities::MPI::sum(ArrayView<const double>(x.data(), dim), comm, ArrayView<double>(x.data(), dim));
-        where = "fastest point at (" + sci(x[0] / owners) + ", " + sci(x[1] / owners) + ", " + sci(x[2] / owners) +
-                "), speed " + sci(std::sqrt(global));
-      }
-    const std::string cause =
-      dt > dt_stable ? "the time step " + sci(dt) + " exceeds the stable estimate " + sci(dt_stable) +
-                         ": lower Solver/Verlet/Fixed dt, or set it to 0 for the automatic step" :
-                       "loading or an initial state beyond what the material carries, or a time step too "
-                       "close to the limit (lower Solver/Verlet/Safety factor)";
-    // Write the last good state, then stop.
-    std::copy(u_good.begin(), u_good.end(), displacement.begin());
-    std::copy(v_good.begin(), v_good.end(), velocity.begin());
-    if (output.frequency > 0)
-      {
-        compute_forces(true);
-        write_output(last_good_step, initial_time + last_good_step * dt);
-      }
-    AssertThrow(false,
-                ExcMessage(std::string(nonfinite ? "the solution became non-finite" :
-                                                   "the kinetic energy grew to " + sci(kinetic_energy) +
-                                                     ", more than " + sci(energy_growth_limit, 3) +
-                                                     " times the energy put in (" + sci(reference) + ")") +
-                           " at step " + std::to_string(step) + " (t = " + sci(time, 6) + "), " + where +
-                           ". Likely cause: " + cause +
-                           (output.frequency > 0 ? ". The last good state is written as step " +
-                                                     std::to_string(last_good_step) + "." :
-                                                   "")));
-  }
-
-  void
   Simulation::run()
   {
     setup();
@@ -1188,6 +1061,7 @@ namespace perideal
     const unsigned int n       = cloud.n_owned();
     const unsigned int entries = dim * n;
     apply_initial_conditions();
+    displacement.update_ghost_values();
     compute_forces(true);
     {
       const auto row = global_quantities(0, initial_time);
@@ -1206,36 +1080,7 @@ namespace perideal
     std::vector<double> inverse_density(n);
     for (unsigned int i = 0; i < n; ++i)
       inverse_density[i] = 1 / mass_density[i];
-    // The global check (one collective sum: kinetic energy, work of the
-    // external forces, a bad condition value) runs every Check interval
-    // steps, at output steps and at the last step; between checks the ranks
-    // meet only in the ghost exchanges, and a rank that is ahead keeps going.
-    // The state of the last passed check is kept: it is the one written if a
-    // later check fails.
-    std::vector<double> u_good(displacement.begin(), displacement.begin() + entries), v_good(velocity.begin(), velocity.begin() + entries);
-    unsigned int        good_step        = 0;
-    double              work_since_check = 0;
-    unsigned int        first_nonfinite  = 0; // first step whose kinetic energy is not finite here, 0: none
-    double              bad_condition_time = std::numeric_limits<double>::infinity();
-    // The constrained entries' state of the previous step, for the work of the reactions.
-    std::vector<double> u_constrained(constraints.size()), v_constrained(constraints.size());
-
-    const auto check = [&](const unsigned int step, const double local_kinetic_energy) {
-      TimerOutput::Scope t(timer, "global check");
-      double sums[3] = {local_kinetic_energy, work_since_check, double(bad_condition)};
-      Utilities::MPI::sum(ArrayView<const double>(sums, 3), comm, ArrayView<double>(sums, 3));
-      external_work += sums[1];
-      work_since_check = 0;
-      if (sums[2] > 0)
-        check_condition_values(bad_condition, Utilities::MPI::min(bad_condition_time, comm));
-      unsigned int bad_step = step;
-      if (!std::isfinite(sums[0]))
-        bad_step = Utilities::MPI::min(first_nonfinite > 0 ? first_nonfinite : step, comm);
-      stop_if_unstable(bad_step, sums[0], good_step, u_good, v_good);
-      good_step = step;
-      std::copy(displacement.begin(), displacement.begin() + entries, u_good.begin());
-      std::copy(velocity.begin(), velocity.begin() + entries, v_good.begin());
-    };
+    std::vector<double> u_previous(entries), v_previous(entries);
 
     pcout << "Time integration: " << n_steps << " steps of " << sci(dt, 6) << " from t = " << initial_time
           << std::endl;
@@ -1252,32 +1097,33 @@ namespace perideal
         const double new_time = initial_time + step * dt;
         {
           TimerOutput::Scope t(timer, "time integration");
-          for (unsigned int c = 0; c < constraints.size(); ++c)
-            {
-              const unsigned int e = dim * constraints[c].point + constraints[c].component;
-              u_constrained[c]     = u[e];
-              v_constrained[c]     = v[e];
-            }
+          std::copy(u, u + entries, u_previous.begin());
+          std::copy(v, v + entries, v_previous.begin());
           // Half kick and drift; the force already holds the body force.
           for (unsigned int k = 0; k < entries; ++k)
             {
               v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
               u[k] += dt * v[k];
             }
-          if (!body_force.empty())
-            for (unsigned int k = 0; k < entries; ++k)
-              if (!constrained[k])
-                work_since_check += body_force[k] * cloud.volume[k / dim] * dt * v[k];
           apply_prescribed(new_time, dt);
           if (body_force_depends_on_time)
-            update_body_force(new_time);
-          if (bad_condition > 0 && !std::isfinite(bad_condition_time))
-            bad_condition_time = new_time;
+            {
+              std::fill(body_force.begin(), body_force.end(), 0.0);
+              for (const auto &bc : conditions)
+                if (bc.type == BoundaryCondition::Type::body_force)
+                  for (const unsigned int i : bc.points)
+                    body_force[dim * i + bc.component] +=
+                      bc.value->value(cloud.position(i), new_time, cloud.hash(i));
+            }
+        }
+        {
+          TimerOutput::Scope t(timer, "ghost exchange");
+          displacement.update_ghost_values();
         }
         const bool output_step = output.is_output_step(step, n_steps);
         compute_forces(output_step);
 
-        double ke = 0;
+        double ke = 0, work = 0;
         {
           TimerOutput::Scope t(timer, "time integration");
           for (unsigned int k = 0; k < entries; ++k)
@@ -1291,24 +1137,99 @@ namespace perideal
               if (bc.type == BoundaryCondition::Type::prescribed_velocity)
                 v[e] = bc.value->value(cloud.position(con.point), new_time, cloud.hash(con.point));
               else
-                v[e] = (u[e] - u_constrained[c]) / dt;
+                v[e] = (u[e] - u_previous[e]) / dt;
               // Work of the reaction: the change of kinetic energy of the
               // constrained entry minus the work of the internal force on it.
               const double mass = mass_density[con.point] * cloud.volume[con.point];
-              work_since_check += 0.5 * mass * (v[e] * v[e] - v_constrained[c] * v_constrained[c]) -
-                                  0.5 * (constraint_force[c] + f[e]) * cloud.volume[con.point] *
-                                    (u[e] - u_constrained[c]);
+              work += 0.5 * mass * (v[e] * v[e] - v_previous[e] * v_previous[e]) -
+                      0.5 * (constraint_force[c] + f[e]) * cloud.volume[con.point] * (u[e] - u_previous[e]);
               constraint_force[c] = f[e];
             }
+          if (!body_force.empty())
+            for (unsigned int k = 0; k < entries; ++k)
+              if (!constrained[k])
+                work += body_force[k] * cloud.volume[k / dim] * (u[k] - u_previous[k]);
           for (unsigned int i = 0; i < n; ++i)
             ke += 0.5 * mass_density[i] * cloud.volume[i] *
                   (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-          if (first_nonfinite == 0 && !std::isfinite(ke))
-            first_nonfinite = step;
         }
-        if (step % check_interval == 0 || output_step || step == n_steps)
-          check(step, ke);
+        if (body_force_depends_on_time)
+          for (const double b : body_force)
+            if (!std::isfinite(b))
+              bad_condition = conditions.size(); // reported below by a collective search
+        double sums[3] = {ke, work, double(bad_condition)};
+        {
+          TimerOutput::Scope t(timer, "global sums");
+          Utilities::MPI::sum(ArrayView<const double>(sums, 3), comm, ArrayView<double>(sums, 3));
+        }
+        ke = sums[0];
+        external_work += sums[1];
+        if (sums[2] > 0)
+          {
+            // Name the condition (collective), then stop.
+            unsigned int bad = 0;
+            for (unsigned int c = 0; c < conditions.size() && bad == 0; ++c)
+              for (const unsigned int i : conditions[c].points)
+                if (!std::isfinite(conditions[c].value->value(cloud.position(i), new_time, cloud.hash(i))))
+                  {
+                    bad = c + 1;
+                    break;
+                  }
+            check_condition_values(bad, new_time);
+            AssertThrow(false, ExcMessage("a boundary condition gave a non-finite value at t = " + sci(new_time, 6)));
+          }
 
+        const double reference = std::abs(initial_energy) + std::abs(external_work);
+        const bool   nonfinite = !std::isfinite(ke);
+        const bool   exploding = !nonfinite && ke > 0 && ke > energy_growth_limit * reference;
+        if (nonfinite || exploding)
+          {
+            std::string where = nonfinite ? locate_nonfinite() : "";
+            if (exploding)
+              {
+                // The fastest point.
+                double      vmax = 0;
+                std::array<double, dim> x{{0, 0, 0}};
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const double s = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
+                    if (s > vmax)
+                      vmax = s, x = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2]}};
+                  }
+                const double global = Utilities::MPI::max(vmax, comm);
+                if (vmax != global)
+                  x = {{0, 0, 0}};
+                const double owners = Utilities::MPI::sum(vmax == global ? 1.0 : 0.0, comm);
+                Utilities::MPI::sum(ArrayView<const double>(x.data(), dim), comm, ArrayView<double>(x.data(), dim));
+                where = "fastest point at (" + sci(x[0] / owners) + ", " + sci(x[1] / owners) + ", " +
+                        sci(x[2] / owners) + "), speed " + sci(std::sqrt(global));
+              }
+            const std::string cause =
+              dt > dt_stable ?
+                "the time step " + sci(dt) + " exceeds the stable estimate " + sci(dt_stable) +
+                  ": lower Solver/Verlet/Fixed dt, or set it to 0 for the automatic step" :
+                "loading or an initial state beyond what the material carries, or a time step too "
+                "close to the limit (lower Solver/Verlet/Safety factor)";
+            // Write the last good state, then stop.
+            std::copy(u_previous.begin(), u_previous.end(), u);
+            std::copy(v_previous.begin(), v_previous.end(), v);
+            displacement.update_ghost_values();
+            if (output.frequency > 0)
+              {
+                compute_forces(true);
+                write_output(step - 1, time);
+              }
+            AssertThrow(false,
+                        ExcMessage(std::string(nonfinite ? "the solution became non-finite" :
+                                                           "the kinetic energy grew to " + sci(ke) + ", more than " +
+                                                             sci(energy_growth_limit, 3) + " times the energy put in (" +
+                                                             sci(reference) + ")") +
+                                   " at step " + std::to_string(step) + " (t = " + sci(new_time, 6) + "), " +
+                                   where + ". Likely cause: " + cause +
+                                   (output.frequency > 0 ? ". The last good state is written as step " +
+                                                             std::to_string(step - 1) + "." :
+                                                           "")));
+          }
         time = new_time;
         if (output_step)
           write_output(step, time);

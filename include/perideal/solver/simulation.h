@@ -7,7 +7,6 @@
 #include <perideal/base/input.h>
 #include <perideal/conditions/boundary_conditions.h>
 #include <perideal/damage/damage_model.h>
-#include <perideal/discretization/ghost_exchange.h>
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/geometry/region.h>
 #include <perideal/geometry/scene.h>
@@ -53,9 +52,6 @@ namespace perideal
     std::unique_ptr<Material>    material;
     std::unique_ptr<DamageModel> damage;
     std::vector<unsigned int>    points; // owned points of this block
-    // The same points split by whether a neighbor is a ghost: the bond loops
-    // of interior points run while the ghost exchange is in flight.
-    std::vector<unsigned int> interior_points, boundary_points;
   };
 
   class Simulation
@@ -87,10 +83,6 @@ namespace perideal
     apply_initial_conditions();
     void
     apply_prescribed(const double time, const double dt);
-    /// Sums the body force conditions at @p time; notes a non-finite value
-    /// in bad_condition.
-    void
-    update_body_force(const double time);
     void
     check_condition_values(const unsigned int bad_local, const double time) const;
     void
@@ -107,15 +99,6 @@ namespace perideal
     print_summary(const double loop_seconds, const unsigned int steps_done);
     std::string
     locate_nonfinite();
-    /// Stops the run if the kinetic energy of @p step is non-finite or grew
-    /// past the limit: writes @p u_good, @p v_good (the state of
-    /// @p last_good_step) and throws a message naming step, point and cause.
-    void
-    stop_if_unstable(const unsigned int   step,
-                     const double         kinetic_energy,
-                     const unsigned int   last_good_step,
-                     std::vector<double> &u_good,
-                     std::vector<double> &v_good);
 
     MPI_Comm                                  comm;
     dealii::ConditionalOStream                pcout;
@@ -134,7 +117,6 @@ namespace perideal
     double       initial_time = 0, final_time = 0, fixed_dt = 0, safety_factor = 0;
     unsigned int requested_steps = 0;
     double       energy_growth_limit = 0;
-    unsigned int check_interval      = 1;
 
     // Points, bonds and state
     PointCloud                 cloud;
@@ -148,9 +130,6 @@ namespace perideal
     std::vector<double>        body_force;   // per owned point and component; empty if none
     bool                       body_force_depends_on_time = false;
     std::vector<std::string>   ghosted_stage_fields;
-    // The per-step ghost updates of the displacement and the stage fields.
-    std::unique_ptr<GhostExchange>              displacement_exchange;
-    std::vector<std::unique_ptr<GhostExchange>> stage_exchanges;
 
     // Prescribed components: (point, component, condition)
     struct Constraint
