@@ -242,7 +242,7 @@ loadavg() { cut -d' ' -f1 /proc/loadavg; }
 
 # ---------------------------------------------------------------- summary
 
-COLS="code model variant n ranks rep status loop_s bonds updates peak_mib ke0 ke_end se_end broken dmax dave t_force t_damage t_ghost t_integ t_output cpu_pct load1 scene_mib"
+COLS="code model variant n ranks rep status loop_s bonds updates peak_mib ke0 ke_end se_end broken dmax dave t_force t_damage t_ghost t_integ t_output cpu_pct load1 scene_mib t_sums"
 
 summarize() { # results.tsv
   awk -F'\t' -v steps="$STEPS" '
@@ -283,6 +283,7 @@ summarize() { # results.tsv
       br[key] = $c["broken"]; dmax[key] = $c["dmax"]; dave[key] = $c["dave"]
       add(tf, key, $c["t_force"]); add(td, key, $c["t_damage"]); add(tg, key, $c["t_ghost"])
       add(ti, key, $c["t_integ"]); add(to, key, $c["t_output"])
+      add(ts, key, ("t_sums" in c) && $c["t_sums"] != "" ? $c["t_sums"] : 0)
     }
     END {
       # order: model, variant, n, ranks, code (PeriDeal first)
@@ -341,16 +342,17 @@ summarize() { # results.tsv
       print ""
       print "### Where PeriDeal spends the time loop (TimerOutput of rank 0, median; seconds and share of the loop)"
       print ""
-      print "| model | variant | n | ranks | loop [s] | force | damage | ghost exchange | time integration | output | rest of the loop |"
-      print "|---|---|---|---|---|---|---|---|---|---|---|"
+      print "| model | variant | n | ranks | loop [s] | force | damage | ghost exchange | global sums | time integration | output | rest of the loop |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|---|"
       for (i = 1; i <= nk; i++) {
         key = order[i]; split(key, f, SUBSEP)
         if (f[1] != "perideal") continue
         a = median(tf[key]); b = median(td[key]); g = median(tg[key]); t = median(ti[key]); o = median(to[key])
-        rest = L[key] - a - b - g - t - o
-        printf "| %s | %s | %d | %d | %.3f | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.4f (%.2f%%) | %.3f (%.0f%%) |\n",
+        q = median(ts[key])
+        rest = L[key] - a - b - g - q - t - o
+        printf "| %s | %s | %d | %d | %.3f | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.3f (%.0f%%) | %.4f (%.2f%%) | %.3f (%.0f%%) |\n",
           toupper(f[2]), f[3], f[4], f[5], L[key], a, 100*a/L[key], b, 100*b/L[key], g, 100*g/L[key],
-          t, 100*t/L[key], o, 100*o/L[key], rest, 100*rest/L[key]
+          q, 100*q/L[key], t, 100*t/L[key], o, 100*o/L[key], rest, 100*rest/L[key]
       }
       print ""
       print "### Physics at step " steps " of the timed runs (energies in PeriDeal units: LAMMPS ke, pe x h^3)"
@@ -541,11 +543,11 @@ run_perideal() { # model variant n np rep
   fi
   local ke0 ke se br md
   read -r ke0 ke se br md <<< "$(pd_globals "$dir/output/cube.globals.csv")"
-  local tf td tg ti to
+  local tf td tg ti to ts
   tf=$(pd_timer "$dir/pd.log" force); td=$(pd_timer "$dir/pd.log" damage)
   tg=$(pd_timer "$dir/pd.log" "ghost exchange"); ti=$(pd_timer "$dir/pd.log" "time integration")
-  to=$(pd_timer "$dir/pd.log" output)
-  printf '%s\n' "perideal $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $se $br $md - $tf $td $tg $ti $to $cpu $load $scene" | tr ' ' '\t' >> "$tsv"
+  to=$(pd_timer "$dir/pd.log" output); ts=$(pd_timer "$dir/pd.log" "global sums")
+  printf '%s\n' "perideal $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $se $br $md - $tf $td $tg $ti $to $cpu $load $scene $ts" | tr ' ' '\t' >> "$tsv"
   report perideal "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$upd" "$peak" "$ke" "$cpu"
 }
 
@@ -574,7 +576,7 @@ run_lammps() { # model variant n np rep
   read -r ke0 ke pe dave dmax <<< "$(lmp_thermo_rows "$dir/lmp.log" 2>/dev/null | awk -v n="$n" -v s="$STEPS" '
     { r[$1] = $0 } END { V = 1 / (n * n * n); if (!(0 in r) || !(s in r)) { print "- - - - -"; exit }
       split(r[0], a, " "); split(r[s], b, " "); printf "%.10g %.10g %.10g %s %s\n", a[2] * V, b[2] * V, b[3] * V, b[4], b[5] }')"
-  printf '%s\n' "lammps $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $pe - $dmax $dave 0 0 0 0 0 $cpu $load -" | tr ' ' '\t' >> "$tsv"
+  printf '%s\n' "lammps $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $pe - $dmax $dave 0 0 0 0 0 $cpu $load - 0" | tr ' ' '\t' >> "$tsv"
   report lammps "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$upd" "$peak" "$ke" "$cpu"
 }
 
