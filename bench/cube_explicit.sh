@@ -29,6 +29,10 @@
 #                          muparser expression in r = |xi|/horizon, or 'lammps'
 #                          for what LAMMPS uses in effect (1/|xi| times its
 #                          partial-volume factor near the horizon)  (default: 1)
+#       --pair             after every 1-rank PeriDeal case, run two independent
+#                          1-rank processes of it at once, one per core: the
+#                          machine's own ceiling for the 2-rank efficiency (no
+#                          MPI between them: what they lose is the machine's)
 #       --no-physics       skip the physics check (n = 20, 1 rank, both codes,
 #                          kinetic energy every 50 steps; PeriDeal's mean damage
 #                          from its Damage field; LPS also with 'lammps' influence)
@@ -64,6 +68,7 @@ PD_APP="$root/build/pd_app"
 STEPS=200
 FREQ=200
 PHYSICS=1
+PAIR=0
 LPS_INFLUENCE=1
 OUT=""
 SUMMARIZE=""
@@ -84,6 +89,7 @@ while [ $# -gt 0 ]; do
     --globals-freq)  FREQ=$2; shift 2;;
     --lps-influence) LPS_INFLUENCE=$2; shift 2;;
     --no-physics)    PHYSICS=0; shift;;
+    --pair)          PAIR=1; shift;;
     -o|--out)        OUT=$2; shift 2;;
     --summarize)     SUMMARIZE=$2; shift 2;;
     -h|--help)       usage; exit 0;;
@@ -271,6 +277,8 @@ summarize() { # results.tsv
     }
     NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     $c["status"] != "ok" { failed[$c["code"] " " $c["model"] " " $c["variant"] " n=" $c["n"] " np=" $c["ranks"] " rep " $c["rep"] ": " $c["status"]] = 1; next }
+    # two independent 1-rank runs at once: the sum of their rates
+    $c["ranks"] == "pair" { add(pairs, $c["model"] SUBSEP $c["variant"] SUBSEP $c["n"], $c["updates"]); next }
     {
       key = $c["code"] SUBSEP $c["model"] SUBSEP $c["variant"] SUBSEP $c["n"] SUBSEP $c["ranks"]
       if (!(key in seen)) { seen[key] = 1; order[++nk] = key }
@@ -321,8 +329,10 @@ summarize() { # results.tsv
       print ""
       print "Bytes per bond: peak RSS summed over ranks; in brackets the scene memory, the same minus what each rank holds before it reads the scene (the libraries deal.II, Trilinos, p4est, MPI: about 150 MiB per rank)."
       print ""
-      print "| model | variant | n | ratio per core, 1 rank (>= 2) | ratio per core, 2 ranks (>= 2) | bytes/bond, 1 rank (<= 24) | bytes/bond, 2 ranks (<= 24) | 2-rank efficiency (>= 90%) | LAMMPS 2-rank efficiency |"
-      print "|---|---|---|---|---|---|---|---|---|"
+      print "Machine ceiling (--pair): the summed rate of two independent 1-rank runs at once over twice the 1-rank rate; the efficiency no 2-rank run can beat on this machine but by chance. Relative: the 2-rank rate over that summed rate."
+      print ""
+      print "| model | variant | n | ratio per core, 1 rank (>= 2) | ratio per core, 2 ranks (>= 2) | bytes/bond, 1 rank (<= 24) | bytes/bond, 2 ranks (<= 24) | 2-rank efficiency (>= 90%) | LAMMPS 2-rank efficiency | machine ceiling | 2-rank rate / pair rate |"
+      print "|---|---|---|---|---|---|---|---|---|---|---|"
       for (i = 1; i <= nk; i++) {
         key = order[i]; split(key, f, SUBSEP)
         if (f[1] != "perideal") continue
@@ -337,7 +347,10 @@ summarize() { # results.tsv
         b2 = (p2 in U) ? bpb(M[p2], P[p2], bonds[p2]) : "-"
         e  = ((p1 in U) && (p2 in U)) ? sprintf("%.0f%% (%.0f%%) %s", 100 * U[p2] / (2 * U[p1]), 100 * UC[p2] / (2 * UC[p1]), U[p2] / (2 * U[p1]) >= 0.9 ? "met" : "**not met**") : "-"
         le = ((l1 in U) && (l2 in U)) ? sprintf("%.0f%% (%.0f%%)", 100 * U[l2] / (2 * U[l1]), 100 * UC[l2] / (2 * UC[l1])) : "-"
-        printf "| %s | %s | %d | %s | %s | %s | %s | %s | %s |\n", toupper(f[2]), f[3], f[4], r1, r2, bb, b2, e, le
+        ceil = "-"; rel = "-"
+        if ((base in pairs) && (p1 in U)) ceil = sprintf("%.0f%%", 100 * median(pairs[base]) / (2 * U[p1]))
+        if ((base in pairs) && (p2 in U)) rel = sprintf("%.0f%%", 100 * U[p2] / median(pairs[base]))
+        printf "| %s | %s | %d | %s | %s | %s | %s | %s | %s | %s | %s |\n", toupper(f[2]), f[3], f[4], r1, r2, bb, b2, e, le, ceil, rel
       }
       print ""
       print "### Where PeriDeal spends the time loop (TimerOutput of rank 0, median; seconds and share of the loop)"
@@ -509,7 +522,7 @@ OUT=$(cd "$OUT" && pwd)
   fi
   echo "bench script repository: $(git -C "$root" rev-parse --short HEAD 2>/dev/null)"
   echo "lammps: $(dpkg-query -W -f='${Version}' lammps 2>/dev/null)"
-  echo "options: --models \"$MODELS\" --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS --globals-freq $FREQ --lps-influence '$LPS_INFLUENCE'"
+  echo "options: --models \"$MODELS\" --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS$([ "$PAIR" = 1 ] && echo ' --pair') --globals-freq $FREQ --lps-influence '$LPS_INFLUENCE'"
 } > "$OUT/machine.txt"
 cat "$OUT/machine.txt"
 
@@ -551,6 +564,30 @@ run_perideal() { # model variant n np rep
   report perideal "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$upd" "$peak" "$ke" "$cpu"
 }
 
+# Two independent 1-rank runs of one case at the same time, one per core.
+run_perideal_pair() { # model variant n rep
+  local m=$1 v=$2 n=$3 rep=$4 k pids=() total=0 status=ok rate bonds
+  local dir="$OUT/perideal_${m}_${v}_n${n}_pair_r${rep}"
+  rm -rf "$dir"
+  local load; load=$(loadavg)
+  for k in 0 1; do
+    mkdir -p "$dir/$k"
+    write_prm "$m" "$v" "$n" "$dir/$k/pd.prm" "$FREQ" "" "$LPS_INFLUENCE"
+    (cd "$dir/$k" && taskset -c "$k" "$PD_APP" pd.prm > pd.log 2>&1) &
+    pids+=($!)
+  done
+  for k in 0 1; do wait "${pids[$k]}" || status="failed(rc=$?)"; done
+  for k in 0 1; do
+    rate=$(awk '/bond updates per second:/ { print $5; exit }' "$dir/$k/pd.log")
+    [ -n "$rate" ] || { status=failed; rate=0; }
+    total=$(awk -v t="$total" -v r="$rate" 'BEGIN { printf "%.6g", t + r * 1e6 }')
+  done
+  bonds=$(awk '/^  bonds:/ && /\(directed\)$/ { b = $2 } END { print b }' "$dir/0/pd.log")
+  printf '%s\n' "perideal $m $v $n pair $rep $status - ${bonds:-0} $total - - - - - - - - - - - - - $load - -" | tr ' ' '\t' >> "$tsv"
+  printf '%s perideal %-3s %-10s n=%-3s two 1-rank runs at once, rep %s: %-6s %8.2f M bond updates/s in all\n' \
+    "$(date +%T)" "$m" "$v" "$n" "$rep" "$status" "$(awk -v u="$total" 'BEGIN { print u / 1e6 }')"
+}
+
 run_lammps() { # model variant n np rep
   local m=$1 v=$2 n=$3 np=$4 rep=$5
   local dir="$OUT/lammps_${m}_${v}_n${n}_np${np}_r${rep}"
@@ -586,6 +623,7 @@ for rep in $(seq 1 "$REPS"); do
       for v in $VARIANTS; do
         for np in $RANKS; do
           has perideal "$CODES" && run_perideal "$m" "$v" "$n" "$np" "$rep"
+          has perideal "$CODES" && [ "$PAIR" = 1 ] && [ "$np" = 1 ] && run_perideal_pair "$m" "$v" "$n" "$rep"
           has lammps "$CODES" && run_lammps "$m" "$v" "$n" "$np" "$rep"
         done
       done
