@@ -210,6 +210,112 @@ namespace perideal
       return dt;
     }
 
+    bool
+    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+    {
+      // Owner i, bond j (w = omega (1 - d), M = y/|y|, e = |y| - |xi|), from
+      // f_i = sum_j V_j h_ij M_ij, h_ij = w [|xi| (alpha_i + alpha_j) + (beta_i + beta_j) e]:
+      //   direct     A_j = V_j [w (beta_i + beta_j) M M^T + h (I - M M^T) / |y|]
+      //   dilatation theta_i depends on u_l, l in F(i), through
+      //              g_l = d theta_i / d u_l = (3/m_i) w_l |xi_l| V_l M_l, g_i = -sum_l g_l = -G;
+      //              f_i through alpha_i:  c = sum_j V_j w |xi| gamma_i M_j  (d f_i / d theta_i)
+      //              f_j through alpha_i:  -q_j, q_j = V_i w |xi| gamma_i M_j  (d f_j / d theta_i)
+      // K = -d(V f)/du:  row i:  K_il = -V_i (A_l + c g_l^T),  K_ii = V_i (sum A + c G^T)
+      //                  row j:  K_jl =  V_j q_j g_l^T,        K_ji = -V_j q_j G^T
+      // Row j of f_j through theta_i uses bond j->i with the weight of i->j:
+      // families must be symmetric (the solver checks the horizons).
+      const double *X     = state.cloud.X.data();
+      const double *V     = state.cloud.volume.data();
+      const double *u     = state.u;
+      const double *m     = state.fields.get("weighted_volume").begin();
+      const double *alpha = state.fields.get("lps_alpha").begin();
+      const double *beta  = state.fields.get("lps_beta").begin();
+      const double *gamma = state.fields.get("lps_gamma").begin();
+      std::vector<unsigned int> cols;
+      std::vector<double>       blocks, M, g;
+      for (const unsigned int i : points)
+        {
+          const std::size_t first = state.bonds.offsets[i], n = state.bonds.offsets[i + 1] - first;
+          cols.resize(n + 1);
+          blocks.assign(9 * (n + 1), 0.0);
+          M.assign(3 * n, 0.0);
+          g.assign(3 * n, 0.0);
+          cols[0] = i;
+          double c[3] = {0, 0, 0}, Gs[3] = {0, 0, 0};
+          for (std::size_t k = 0; k < n; ++k)
+            {
+              const std::size_t  b = first + k;
+              const unsigned int j = state.bonds.neighbor[b];
+              cols[k + 1]          = j;
+              double w             = constant_influence ? omega0 : omega[b];
+              if (state.broken)
+                w *= 1.0 - state.broken[b];
+              double xi[3], y[3];
+              for (unsigned int d = 0; d < 3; ++d)
+                {
+                  xi[d] = X[3 * j + d] - X[3 * i + d];
+                  y[d]  = xi[d] + u[3 * j + d] - u[3 * i + d];
+                }
+              const double r0 = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+              const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+              const double h  = w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * (r - r0));
+              for (unsigned int d = 0; d < 3; ++d)
+                {
+                  M[3 * k + d] = y[d] / r;
+                  g[3 * k + d] = 3 / m[i] * w * r0 * V[j] * M[3 * k + d];
+                  Gs[d] += g[3 * k + d];
+                  c[d] += V[j] * w * r0 * gamma[i] * M[3 * k + d];
+                }
+              for (unsigned int p = 0; p < 3; ++p)
+                for (unsigned int q = 0; q < 3; ++q)
+                  {
+                    const double MM = M[3 * k + p] * M[3 * k + q];
+                    const double A  = V[i] * V[j] * (w * (beta[i] + beta[j]) * MM + h * ((p == q) - MM) / r);
+                    blocks[9 * (k + 1) + 3 * p + q] = -A;
+                    blocks[3 * p + q] += A;
+                  }
+            }
+          // Row i: the dilatation of i.
+          for (std::size_t l = 0; l < n; ++l)
+            for (unsigned int p = 0; p < 3; ++p)
+              for (unsigned int q = 0; q < 3; ++q)
+                blocks[9 * (l + 1) + 3 * p + q] -= V[i] * c[p] * g[3 * l + q];
+          for (unsigned int p = 0; p < 3; ++p)
+            for (unsigned int q = 0; q < 3; ++q)
+              blocks[3 * p + q] += V[i] * c[p] * Gs[q];
+          rows.add(i, cols.data(), blocks.data(), n + 1);
+
+          // Rows j: their force through the dilatation of i.
+          if (gamma[i] == 0)
+            continue;
+          for (std::size_t k = 0; k < n; ++k)
+            {
+              const std::size_t  b = first + k;
+              const unsigned int j = state.bonds.neighbor[b];
+              double             w = constant_influence ? omega0 : omega[b];
+              if (state.broken)
+                w *= 1.0 - state.broken[b];
+              if (w == 0)
+                continue;
+              const double r0 = std::sqrt(std::pow(X[3 * j] - X[3 * i], 2) + std::pow(X[3 * j + 1] - X[3 * i + 1], 2) +
+                                          std::pow(X[3 * j + 2] - X[3 * i + 2], 2));
+              const double s  = V[j] * V[i] * w * r0 * gamma[i];
+              for (unsigned int p = 0; p < 3; ++p)
+                {
+                  const double qp = s * M[3 * k + p];
+                  for (unsigned int q = 0; q < 3; ++q)
+                    {
+                      blocks[3 * p + q] = -qp * Gs[q];
+                      for (std::size_t l = 0; l < n; ++l)
+                        blocks[9 * (l + 1) + 3 * p + q] = qp * g[3 * l + q];
+                    }
+                }
+              rows.add(j, cols.data(), blocks.data(), n + 1);
+            }
+        }
+      return true;
+    }
+
   private:
     double                      rho = 0, K = 0, G = 0;
     std::unique_ptr<Expression> influence;

@@ -116,6 +116,61 @@ namespace perideal
       return dt;
     }
 
+    unsigned int
+    coupling_hops() const override
+    {
+      return 1;
+    }
+
+    bool
+    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+    {
+      // Row i of K = -d(V_i f_i)/du: with M = y/|y|, s the stretch,
+      //   d(s M)/dy = M M^T / |xi| + s (I - M M^T) / |y|,
+      // A_ij = c (1 - d) V_j d(s M)/dy; K_ij = -V_i A_ij, K_ii = V_i sum_j A_ij.
+      const VectorType  &c = state.fields.get("pmb_micromodulus");
+      const double      *X = state.cloud.X.data();
+      const double      *V = state.cloud.volume.data();
+      const double      *u = state.u;
+      std::vector<unsigned int> cols;
+      std::vector<double>       blocks;
+      for (const unsigned int i : points)
+        {
+          const std::size_t first = state.bonds.offsets[i], n = state.bonds.offsets[i + 1] - first;
+          cols.resize(n + 1);
+          blocks.assign(9 * (n + 1), 0.0);
+          cols[0] = i;
+          for (std::size_t k = 0; k < n; ++k)
+            {
+              const std::size_t  b = first + k;
+              const unsigned int j = state.bonds.neighbor[b];
+              cols[k + 1]          = j;
+              if (state.broken && state.broken[b])
+                continue;
+              double xi[3], y[3];
+              for (unsigned int d = 0; d < 3; ++d)
+                {
+                  xi[d] = X[3 * j + d] - X[3 * i + d];
+                  y[d]  = xi[d] + u[3 * j + d] - u[3 * i + d];
+                }
+              const double r0 = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+              const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+              const double s  = (r - r0) / r0;
+              const double cv = 0.5 * (c.local_element(i) + c.local_element(j)) * V[j] * V[i];
+              for (unsigned int p = 0; p < 3; ++p)
+                for (unsigned int q = 0; q < 3; ++q)
+                  {
+                    const double MM = y[p] * y[q] / (r * r);
+                    const double A  = cv * (MM / r0 + s * ((p == q) - MM) / r);
+                    blocks[9 * (k + 1) + 3 * p + q] = -A;
+                    blocks[3 * p + q] += A;
+                  }
+            }
+          rows.add(i, cols.data(), blocks.data(), n + 1);
+        }
+      return true;
+    }
+
   private:
     double rho = 0, K = 0;
 

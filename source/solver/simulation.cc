@@ -116,14 +116,30 @@ namespace perideal
       }
     prm.leave_subsection();
 
+    prm.enter_subsection("Computes");
+    declare_names_entry(prm, "computes: global quantities over regions, extra columns of the globals CSV");
+    for (const auto &name : names.computes)
+      {
+        prm.enter_subsection(name);
+        RegionCompute::declare_parameters(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
     prm.enter_subsection("Solver");
-    prm.declare_entry("Type", "Verlet", Patterns::Selection("Verlet"), "Explicit velocity-Verlet with lumped mass.");
+    prm.declare_entry("Type", "Verlet", Patterns::Selection("Verlet|QuasiStatic"),
+                      "Verlet: explicit velocity-Verlet with lumped mass. QuasiStatic: Number of steps "
+                      "load steps from Initial time to Final time (a pseudo-time; 0 to 1 if Final time is "
+                      "not after Initial time), each solved by Newton's method (subsection QuasiStatic).");
     prm.declare_entry("Initial time", "0", Patterns::Double(), "Start time.");
     prm.declare_entry("Final time", "0", Patterns::Double(), "End time. The number of steps is ceil((final - initial)/dt), and dt is then shortened to land on the final time exactly.");
     prm.declare_entry("Number of steps", "0", Patterns::Integer(0), "If positive: run exactly this many steps of dt and ignore Final time.");
     prm.declare_entry("Energy growth limit", "10", Patterns::Double(1),
                       "Stop when the kinetic energy exceeds this factor times (initial kinetic + "
                       "strain energy + work of external forces): the run is unstable.");
+    prm.enter_subsection("QuasiStatic");
+    QuasiStaticParameters::declare_parameters(prm);
+    prm.leave_subsection();
     prm.enter_subsection("Verlet");
     prm.declare_entry("Fixed dt", "0", Patterns::Double(0), "Time step; 0: Safety factor times the smallest stable estimate over all points.");
     prm.declare_entry("Safety factor", "0.8", Patterns::Double(0, 1), "Fraction of the stable time step used when Fixed dt is 0.");
@@ -142,6 +158,7 @@ namespace perideal
     names.regions       = {"My region"};
     names.blocks        = {"My block"};
     names.conditions    = {"My condition"};
+    names.computes      = {"My compute"};
     for (const auto &m : Registry<Material>::instance().all())
       names.materials["My " + m.first + " material"] = m.first;
     for (const auto &m : Registry<DamageModel>::instance().all())
@@ -242,6 +259,7 @@ namespace perideal
       names.regions    = read_list(prm, {"Discretization", "Regions"});
       names.blocks     = read_list(prm, {"Blocks"});
       names.conditions = read_list(prm, {"Boundary conditions"});
+      names.computes   = read_list(prm, {"Computes"});
       for (const auto &n : read_list(prm, {"Materials"}))
         names.materials[n] = "";
       for (const auto &n : read_list(prm, {"Damage models"}))
@@ -377,7 +395,27 @@ namespace perideal
       }
     prm.leave_subsection();
 
+    prm.enter_subsection("Computes");
+    for (const auto &name : names.computes)
+      {
+        const std::string path = "Computes/" + name;
+        prm.enter_subsection(name);
+        RegionCompute compute;
+        compute.name = name;
+        compute.parse_parameters(prm, path);
+        AssertThrow(compute.region == "All" || regions.count(compute.region),
+                    ExcMessage(path + "/Region: '" + compute.region +
+                               "' is not defined in Discretization/Regions/Names"));
+        computes.push_back(std::move(compute));
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
     prm.enter_subsection("Solver");
+    solver_type         = prm.get("Type");
+    prm.enter_subsection("QuasiStatic");
+    quasistatic.parse_parameters(prm);
+    prm.leave_subsection();
     initial_time        = prm.get_double("Initial time");
     final_time          = prm.get_double("Final time");
     requested_steps     = prm.get_integer("Number of steps");
@@ -387,6 +425,8 @@ namespace perideal
     safety_factor = prm.get_double("Safety factor");
     prm.leave_subsection();
     prm.leave_subsection();
+    AssertThrow(solver_type != "QuasiStatic" || requested_steps > 0,
+                ExcMessage("Solver/Number of steps: the quasistatic solver needs the number of load steps (> 0)"));
     AssertThrow(requested_steps > 0 || final_time > initial_time,
                 ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
                            "Solver/Number of steps)"));
@@ -622,6 +662,13 @@ namespace perideal
           warnings.push_back("boundary condition '" + bc.name + "' acts on no point (region '" +
                              bc.region + "' is empty)");
       }
+    for (auto &compute : computes)
+      {
+        compute.points.clear();
+        for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+          if (compute.region == "All" || regions.at(compute.region)->contains(cloud.position(i), cloud.cell[i]))
+            compute.points.push_back(i);
+      }
     constraints.clear();
     {
       // A later condition on the same component of the same point wins.
@@ -684,10 +731,10 @@ namespace perideal
     // own pass first.
     const auto block_state = [&](const unsigned int k) {
       ModelState s = state;
-      s.breaking   = fused_breaking[k].squared_limit > 0 ? &fused_breaking[k] : nullptr;
+      s.breaking   = breaking_allowed && fused_breaking[k].squared_limit > 0 ? &fused_breaking[k] : nullptr;
       return s;
     };
-    if (!broken.empty())
+    if (!broken.empty() && breaking_allowed)
       {
         TimerOutput::Scope t(timer, "damage");
         for (unsigned int k = 0; k < blocks.size(); ++k)
@@ -827,13 +874,42 @@ namespace perideal
     last_strain_energy  = se;
     max_damage         = Utilities::MPI::max(max_damage, comm);
     const double broken_bonds = Utilities::MPI::sum(double(broken_local), comm) / 2;
-    return {{"step", step},
-            {"time", time},
-            {"kinetic_energy", ke},
-            {"strain_energy", se},
-            {"external_work", external_work},
-            {"broken_bonds", broken_bonds},
-            {"max_damage", max_damage}};
+    std::vector<std::pair<std::string, double>> row{{"step", step},
+                                                    {"time", time},
+                                                    {"kinetic_energy", ke},
+                                                    {"strain_energy", se},
+                                                    {"external_work", external_work},
+                                                    {"broken_bonds", broken_bonds},
+                                                    {"max_damage", max_damage}};
+    for (const auto &compute : computes)
+      {
+        const std::function<double(unsigned int)> value =
+          compute.variable == "Damage" ? std::function<double(unsigned int)>([this](unsigned int i) { return point_damage(i); }) :
+          compute.variable[0] == 'D' ?
+            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
+              return displacement.local_element(dim * i + compute.component);
+            }) :
+            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
+              return cloud.volume[i] * force.local_element(dim * i + compute.component);
+            });
+        row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm));
+      }
+    if (solver_type == "QuasiStatic")
+      {
+        row.emplace_back("newton_iterations", last_quasistatic.newton_iterations);
+        row.emplace_back("linear_iterations", last_quasistatic.linear_iterations);
+        row.emplace_back("damage_solves", last_damage_solves);
+        row.emplace_back("residual", last_quasistatic.residual);
+        // The force each prescribed condition's supports put on the body: -V f.
+        std::vector<double> reaction(conditions.size(), 0.0);
+        for (const auto &c : constraints)
+          reaction[c.condition] -= cloud.volume[c.point] * force.local_element(dim * c.point + c.component);
+        Utilities::MPI::sum(reaction, comm, reaction);
+        for (unsigned int c = 0; c < conditions.size(); ++c)
+          if (conditions[c].is_prescribed())
+            row.emplace_back("reaction_" + conditions[c].name, reaction[c]);
+      }
+    return row;
   }
 
   void
@@ -854,18 +930,7 @@ namespace perideal
         (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = value(i);
       cell_fields.emplace_back(name, cell_storage.back().get());
     };
-    cell_field("Damage", [&](unsigned int i) {
-      if (broken.empty())
-        return 0.0;
-      double all = 0, intact = 0;
-      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-        {
-          const double V = cloud.volume[bonds.neighbor[b]];
-          all += V;
-          intact += broken[b] ? 0 : V;
-        }
-      return 1 - intact / all;
-    });
+    cell_field("Damage", [&](unsigned int i) { return point_damage(i); });
     auto field_or_zero = [&](const std::string &field) {
       return [this, field](unsigned int i) {
         return fields->has(field) ? fields->get(field).local_element(i) : 0.0;
@@ -956,10 +1021,11 @@ namespace perideal
     pcout << "  memory estimate:   bonds " << mib(sum_bond) << ", point fields " << mib(sum_point)
           << ", mesh and DoFs " << mib(sum_mesh) << "; total " << mib(sum_bond + sum_point + sum_mesh)
           << " (" << sci((sum_bond + sum_point + sum_mesh) / std::max(1.0, bonds_global), 3)
-          << " bytes per bond)\n"
-          << "  stable time step:  " << sci(dt_stable, 6) << " (smallest over all points)\n"
-          << "  time step:         " << sci(dt, 6)
-          << (fixed_dt > 0 ? " (fixed)" : " (safety factor " + sci(safety_factor, 3) + ")") << "\n";
+          << " bytes per bond)\n";
+    if (solver_type == "Verlet")
+      pcout << "  stable time step:  " << sci(dt_stable, 6) << " (smallest over all points)\n"
+            << "  time step:         " << sci(dt, 6)
+            << (fixed_dt > 0 ? " (fixed)" : " (safety factor " + sci(safety_factor, 3) + ")") << "\n";
     for (const auto &w : warnings)
       pcout << "Warning: " << w << "\n";
     pcout << std::flush;
@@ -976,25 +1042,31 @@ namespace perideal
     const unsigned int ranks  = Utilities::MPI::n_mpi_processes(comm);
     const double updates      = loop_seconds > 0 ? bonds_global * steps_done / loop_seconds : 0;
     const double e_ref        = std::abs(initial_energy) + std::abs(external_work);
+    const bool   explicit_run = solver_type == "Verlet";
 
     pcout << "\nPeriDeal summary\n"
           << "  points:                 " << cloud.n_global() << "\n"
           << "  bonds:                  " << std::setprecision(12) << bonds_global << " (directed)\n"
           << "  steps:                  " << steps_done << "\n"
           << "  wall time:              " << format_seconds(setup_seconds + loop_seconds)
-          << " (set-up " << format_seconds(setup_seconds) << ", time loop " << format_seconds(loop_seconds) << ")\n"
-          << "  bond updates per second: " << sci(updates / 1e6, 4) << " M (" << sci(updates / 1e6 / ranks, 4)
-          << " M per rank)\n"
-          << "  peak memory:            " << mib(peak_sum) << " over all ranks (largest rank " << mib(peak_max)
+          << " (set-up " << format_seconds(setup_seconds) << ", " << (explicit_run ? "time loop " : "load steps ")
+          << format_seconds(loop_seconds) << ")\n";
+    if (explicit_run)
+      pcout << "  bond updates per second: " << sci(updates / 1e6, 4) << " M (" << sci(updates / 1e6 / ranks, 4)
+            << " M per rank)\n";
+    else
+      pcout << "  tangent matrix:         " << tangent->matrix.n_nonzero_elements() << " nonzeros, "
+            << mib(Utilities::MPI::sum(double(tangent->memory_consumption()), comm)) << " over all ranks\n";
+    pcout << "  peak memory:            " << mib(peak_sum) << " over all ranks (largest rank " << mib(peak_max)
           << "); " << sci(peak_sum / std::max(1.0, bonds_global), 3) << " bytes per bond, "
           << sci(peak_sum / std::max<double>(1, cloud.n_global()), 4) << " bytes per point\n";
     pcout << "  scene memory:           " << mib(peak_sum - startup_sum)
           << " over all ranks: peak minus the start-up footprint (libraries; " << mib(startup_max)
           << " per rank); " << sci((peak_sum - startup_sum) / std::max(1.0, bonds_global), 3)
           << " bytes per bond\n";
-    pcout
-          << "  stable time step:       " << sci(dt_stable, 6) << ", used " << sci(dt, 6) << "\n";
-    if (e_ref > 0)
+    if (explicit_run)
+      pcout << "  stable time step:       " << sci(dt_stable, 6) << ", used " << sci(dt, 6) << "\n";
+    if (explicit_run && e_ref > 0)
       pcout << "  energy balance error:   "
             << sci((last_kinetic_energy + last_strain_energy - initial_energy - external_work) / e_ref, 3)
             << " (kinetic + strain - initial - external work, relative)\n";
@@ -1016,7 +1088,28 @@ namespace perideal
   {
     setup();
     print_setup_report();
+    if (solver_type == "QuasiStatic")
+      {
+        setup_implicit();
+        pcout << "  tangent matrix:    " << tangent->matrix.n_nonzero_elements() << " nonzeros, "
+              << mib(Utilities::MPI::sum(double(tangent->memory_consumption()), comm)) << " over all ranks\n";
+      }
     pcout << "Dry run: set-up done, no time step taken." << std::endl;
+  }
+
+  double
+  Simulation::point_damage(const unsigned int i) const
+  {
+    if (broken.empty())
+      return 0.0;
+    double all = 0, intact = 0;
+    for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+      {
+        const double V = cloud.volume[bonds.neighbor[b]];
+        all += V;
+        intact += broken[b] ? 0 : V;
+      }
+    return 1 - intact / all;
   }
 
   std::string
@@ -1048,6 +1141,11 @@ namespace perideal
   {
     setup();
     print_setup_report();
+    if (solver_type == "QuasiStatic")
+      {
+        run_quasistatic();
+        return;
+      }
 
     unsigned int n_steps = requested_steps;
     if (n_steps == 0)

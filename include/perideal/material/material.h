@@ -14,6 +14,7 @@
 #include <perideal/base/input.h>
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/neighborhood/bonds.h>
+#include <perideal/solver/tangent_rows.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
 
@@ -166,6 +167,28 @@ namespace perideal
     /// material's own stiffness (a Gershgorin bound of its tangent).
     virtual double
     stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const = 0;
+
+    /// How far the force of a point reaches, in bonds: 1 if it depends on
+    /// its own family only (bond based), 2 if also on its neighbors'
+    /// families (state based). The implicit solvers size the tangent's
+    /// sparsity from it.
+    virtual unsigned int
+    coupling_hops() const
+    {
+      return 2;
+    }
+
+    /// Adds the analytic tangent of the points in @p points to @p K: the
+    /// stiffness -d(V_i f_i)/du in 3x3 blocks (TangentRows), for the state
+    /// as compute_force() sees it (stage fields computed and ghosted). A
+    /// material may add rows of other points (its neighbors, owned or ghost),
+    /// but only with columns of local points. Returns false if the material
+    /// has no analytic tangent; the solver then uses finite differences.
+    virtual bool
+    add_tangent(const ModelState &, const std::vector<unsigned int> &, TangentRows &) const
+    {
+      return false;
+    }
 
   protected:
     unsigned int block   = 0;

@@ -5,6 +5,7 @@
 // initial state and the energy checks.
 
 #include <perideal/base/input.h>
+#include <perideal/compute/region_compute.h>
 #include <perideal/conditions/boundary_conditions.h>
 #include <perideal/damage/damage_model.h>
 #include <perideal/discretization/point_cloud.h>
@@ -13,6 +14,8 @@
 #include <perideal/material/material.h>
 #include <perideal/neighborhood/bonds.h>
 #include <perideal/output/output.h>
+#include <perideal/solver/quasistatic.h>
+#include <perideal/solver/tangent.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
@@ -30,7 +33,7 @@ namespace perideal
   /// The user-chosen names of a parameter file (and the model of each).
   struct DeckNames
   {
-    std::vector<std::string>           regions, blocks, conditions;
+    std::vector<std::string>           regions, blocks, conditions, computes;
     std::map<std::string, std::string> materials, damage_models; // name -> model ("" unknown yet)
   };
 
@@ -99,6 +102,36 @@ namespace perideal
     print_summary(const double loop_seconds, const unsigned int steps_done);
     std::string
     locate_nonfinite();
+    /// 1 - (intact neighbor volume)/(neighbor volume) of owned point @p i.
+    double
+    point_damage(const unsigned int i) const;
+
+    // The quasistatic solver (quasistatic.cc).
+    struct NewtonResult
+    {
+      unsigned int        newton_iterations = 0, linear_iterations = 0;
+      double              residual = 0;
+    };
+    void
+    run_quasistatic();
+    /// Tangent sparsity, prescribed DoFs, rigid-body modes (and the check
+    /// that conditions remove them).
+    void
+    setup_implicit();
+    /// R = V (f + b) on the free DoFs of the current displacement; returns
+    /// |R| and sets the norm of the reactions (the same on prescribed DoFs).
+    double
+    residual(std::vector<double> &R, double &reaction_norm);
+    void
+    assemble_tangent();
+    /// Solves K du = R; returns the Krylov iterations.
+    unsigned int
+    solve_linear(const std::vector<double> &R, std::vector<double> &du);
+    NewtonResult
+    solve_newton(const unsigned int step);
+    /// Runs the damage models on the current state; returns the bonds (directed) broken now.
+    std::size_t
+    break_bonds();
 
     MPI_Comm                                  comm;
     dealii::ConditionalOStream                pcout;
@@ -111,9 +144,12 @@ namespace perideal
     std::map<std::string, std::unique_ptr<Region>> regions;
     std::vector<Block>                          blocks;
     std::vector<BoundaryCondition>              conditions;
+    std::vector<RegionCompute>                  computes;
     OutputWriter                                output;
 
     // Solver
+    std::string  solver_type = "Verlet";
+    QuasiStaticParameters quasistatic;
     double       initial_time = 0, final_time = 0, fixed_dt = 0, safety_factor = 0;
     unsigned int requested_steps = 0;
     double       energy_growth_limit = 0;
@@ -151,5 +187,15 @@ namespace perideal
     std::vector<StretchBreaking> fused_breaking;
     std::vector<std::string> warnings;
     double      setup_seconds = 0;
+
+    // Implicit solvers only (nothing allocated for an explicit run).
+    bool                      breaking_allowed = true; // false: bonds break only in break_bonds()
+    std::unique_ptr<Tangent>  tangent;
+    std::vector<std::uint8_t> constrained_dofs; // per local DoF
+    std::vector<double>       rigid_modes;      // 6 x owned DoFs, column major
+    bool                      use_finite_differences = false;
+    double                    fd_step                = 0;
+    NewtonResult              last_quasistatic;
+    unsigned int              last_damage_solves = 0;
   };
 } // namespace perideal

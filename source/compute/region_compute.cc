@@ -1,0 +1,56 @@
+#include <perideal/compute/region_compute.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  void
+  RegionCompute::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Region", "All", Patterns::Anything(), "Name of a region of Discretization/Regions, or All.");
+    prm.declare_entry("Variable", "Displacement x",
+                      Patterns::Selection("Displacement x|Displacement y|Displacement z|Force x|Force y|Force z|Damage"),
+                      "Displacement: of a point. Force: the force on a point, V f (force density times "
+                      "volume), internal plus body force; its sum over a region of prescribed points is "
+                      "minus the reaction there. Damage: point damage.");
+    prm.declare_entry("Operation", "Sum", Patterns::Selection("Sum|Mean|Minimum|Maximum"),
+                      "Mean is volume weighted: sum V q / sum V.");
+  }
+
+  void
+  RegionCompute::parse_parameters(ParameterHandler &prm, const std::string &)
+  {
+    region    = prm.get("Region");
+    variable  = prm.get("Variable");
+    operation = prm.get("Operation");
+    component = 0;
+    if (variable.size() > 2 && variable[variable.size() - 2] == ' ')
+      component = variable.back() - 'x';
+  }
+
+  double
+  RegionCompute::evaluate(const std::function<double(unsigned int)> &value,
+                          const std::vector<double>                 &volume,
+                          const MPI_Comm                             comm) const
+  {
+    if (operation == "Minimum" || operation == "Maximum")
+      {
+        const double sign = operation == "Minimum" ? 1 : -1;
+        double       best = std::numeric_limits<double>::max();
+        for (const unsigned int i : points)
+          best = std::min(best, sign * value(i));
+        return sign * Utilities::MPI::min(best, comm);
+      }
+    double sums[2] = {0, 0};
+    for (const unsigned int i : points)
+      {
+        sums[0] += (operation == "Mean" ? volume[i] : 1.0) * value(i);
+        sums[1] += volume[i];
+      }
+    Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
+    return operation == "Mean" ? (sums[1] > 0 ? sums[0] / sums[1] : 0) : sums[0];
+  }
+} // namespace perideal

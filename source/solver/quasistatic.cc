@@ -1,0 +1,447 @@
+// The quasistatic solver: Peridigm's QuasiStatic on deal.II and Trilinos.
+//
+// Load step k sets the prescribed displacements and body forces at pseudo-time
+// t_k and solves R(u) = V (f(u) + b) = 0 on the free degrees of freedom by
+// Newton's method: K du = R with K = -dR/du (solver/tangent.h), then a
+// backtracking line search on |R|. Bonds do not break inside Newton (the
+// residual must be smooth); after a converged solve the damage models run,
+// and the step is solved again while bonds break (at most "Maximum damage
+// solves" times).
+
+#include <perideal/solver/quasistatic.h>
+#include <perideal/solver/simulation.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <Epetra_MultiVector.h>
+#include <Teuchos_ParameterList.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    std::string
+    sci(const double v, const unsigned int digits = 4)
+    {
+      std::ostringstream o;
+      o << std::setprecision(digits) << v;
+      return o.str();
+    }
+  } // namespace
+
+  void
+  QuasiStaticParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Tolerance", "1e-8", Patterns::Double(0),
+                      "Newton stops when |R| <= Tolerance x max(|R| at the start of the solve, "
+                      "|reactions|), R the residual force V(f + b) on the free degrees of freedom.");
+    prm.declare_entry("Absolute tolerance", "0", Patterns::Double(0),
+                      "Newton also stops when |R| <= this (force units); 0: off.");
+    prm.declare_entry("Maximum Newton iterations", "25", Patterns::Integer(1),
+                      "A solve that has not converged after this many iterations stops the run with an error.");
+    prm.declare_entry("Line search", "true", Patterns::Bool(),
+                      "Backtracking line search on |R|: halve the Newton step (at most 10 times) "
+                      "until |R| decreases.");
+    prm.declare_entry("Linear solver", "CG", Patterns::Selection("CG|GMRES"),
+                      "Krylov solver for K du = R. K is symmetric for PMB and LPS: CG. GMRES for "
+                      "models whose tangent is not symmetric.");
+    prm.declare_entry("Preconditioner", "AMG", Patterns::Selection("AMG|Jacobi"),
+                      "AMG: Trilinos ML smoothed aggregation with the six rigid-body modes as near "
+                      "null space; Jacobi: the diagonal (for comparison).");
+    prm.declare_entry("Linear tolerance", "1e-10", Patterns::Double(0),
+                      "The Krylov solver stops at |K du - R| <= this x |R|. Newton converges "
+                      "quadratically only while this is far below the Newton tolerance.");
+    prm.declare_entry("Maximum linear iterations", "1000", Patterns::Integer(1),
+                      "More stops the run with an error.");
+    prm.declare_entry("Tangent", "Analytic", Patterns::Selection("Analytic|Finite differences"),
+                      "Analytic: each material's own tangent (PMB, LPS); a material without one "
+                      "falls back to finite differences. Finite differences: central differences "
+                      "of the force for every material (6 force evaluations per colour; see the "
+                      "set-up report for the number of colours).");
+    prm.declare_entry("Maximum damage solves", "20", Patterns::Integer(1),
+                      "After a converged solve the damage models break bonds; the step is solved "
+                      "again while bonds break, at most this many times (then a warning).");
+  }
+
+  void
+  QuasiStaticParameters::parse_parameters(ParameterHandler &prm)
+  {
+    tolerance          = prm.get_double("Tolerance");
+    absolute_tolerance = prm.get_double("Absolute tolerance");
+    max_newton         = prm.get_integer("Maximum Newton iterations");
+    line_search        = prm.get_bool("Line search");
+    linear_solver      = prm.get("Linear solver");
+    preconditioner     = prm.get("Preconditioner");
+    linear_tolerance   = prm.get_double("Linear tolerance");
+    max_linear         = prm.get_integer("Maximum linear iterations");
+    tangent            = prm.get("Tangent");
+    max_damage_solves  = prm.get_integer("Maximum damage solves");
+    AssertThrow(tolerance > 0 || absolute_tolerance > 0,
+                ExcMessage("Solver/QuasiStatic/Tolerance and Absolute tolerance are both 0: Newton would never stop"));
+  }
+
+  // ------------------------------------------------------------------ set-up
+
+  void
+  Simulation::setup_implicit()
+  {
+    unsigned int hops = 1;
+    for (const auto &b : blocks)
+      hops = std::max(hops, b.material->coupling_hops());
+
+    // The 2-hop tangent assumes j in F(i) exactly when i in F(j).
+    if (hops == 2)
+      {
+        unsigned int asymmetric = 0;
+        for (unsigned int i = 0; i < cloud.n_owned() && !asymmetric; ++i)
+          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+            if (blocks[cloud.block[i]].horizon != blocks[cloud.block[bonds.neighbor[b]]].horizon)
+              asymmetric = 1;
+        AssertThrow(Utilities::MPI::max(asymmetric, comm) == 0,
+                    ExcMessage("the quasistatic solver with a state-based material (LPS) needs bonded "
+                               "blocks to share one horizon (Blocks/*/Horizon)"));
+      }
+
+    // Which local degrees of freedom are prescribed (ghosts from their owners).
+    const unsigned int n_owned = cloud.n_owned();
+    {
+      VectorType flags(cloud.vector_partitioner);
+      for (const auto &c : constraints)
+        flags.local_element(dim * c.point + c.component) = 1;
+      flags.update_ghost_values();
+      constrained_dofs.assign(dim * cloud.n_local(), 0);
+      for (unsigned int k = 0; k < dim * cloud.n_local(); ++k)
+        constrained_dofs[k] = flags.local_element(k) != 0;
+    }
+
+    // Rigid-body modes about the centroid: the near null space of the AMG and
+    // the motions some condition must remove.
+    std::array<double, dim> centre{{0, 0, 0}};
+    {
+      std::array<double, dim + 1> s{{0, 0, 0, 0}};
+      for (unsigned int i = 0; i < n_owned; ++i)
+        {
+          for (unsigned int d = 0; d < dim; ++d)
+            s[d] += cloud.X[dim * i + d] * cloud.volume[i];
+          s[dim] += cloud.volume[i];
+        }
+      Utilities::MPI::sum(ArrayView<const double>(s.data(), s.size()), comm, ArrayView<double>(s.data(), s.size()));
+      for (unsigned int d = 0; d < dim; ++d)
+        centre[d] = s[d] / s[dim];
+    }
+    const unsigned int n = dim * n_owned;
+    rigid_modes.assign(6 * n, 0.0);
+    double extent = 0;
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        const double x = cloud.X[dim * i] - centre[0], y = cloud.X[dim * i + 1] - centre[1],
+                     z = cloud.X[dim * i + 2] - centre[2];
+        extent = std::max({extent, std::abs(x), std::abs(y), std::abs(z)});
+        for (unsigned int d = 0; d < dim; ++d)
+          rigid_modes[d * n + dim * i + d] = 1;
+        // Rotations about x, y and z.
+        rigid_modes[3 * n + dim * i + 1] = -z;
+        rigid_modes[3 * n + dim * i + 2] = y;
+        rigid_modes[4 * n + dim * i + 0] = z;
+        rigid_modes[4 * n + dim * i + 2] = -x;
+        rigid_modes[5 * n + dim * i + 0] = -y;
+        rigid_modes[5 * n + dim * i + 1] = x;
+      }
+    extent = Utilities::MPI::max(extent, comm);
+    // A mode is removed if a prescribed entry moves with it.
+    std::array<double, 6> restrained{{0, 0, 0, 0, 0, 0}};
+    for (const auto &c : constraints)
+      for (unsigned int mode = 0; mode < 6; ++mode)
+        restrained[mode] = std::max(restrained[mode],
+                                    std::abs(rigid_modes[mode * n + dim * c.point + c.component]));
+    Utilities::MPI::max(ArrayView<const double>(restrained.data(), 6), comm, ArrayView<double>(restrained.data(), 6));
+    const char *mode_name[6] = {"translation in x", "translation in y", "translation in z",
+                                "rotation about x",  "rotation about y",  "rotation about z"};
+    std::string free_modes;
+    for (unsigned int mode = 0; mode < 6; ++mode)
+      if (restrained[mode] <= 1e-9 * (mode < 3 ? 1 : extent))
+        free_modes += (free_modes.empty() ? "" : ", ") + std::string(mode_name[mode]);
+    AssertThrow(free_modes.empty(),
+                ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
+                           "motion(s) " + free_modes + ". Prescribe displacements (Type = Prescribed "
+                           "displacement) on regions that hold the body in place"));
+
+    {
+      TimerOutput::Scope t(timer, "implicit: sparsity");
+      tangent = std::make_unique<Tangent>();
+      tangent->reinit(cloud, bonds, hops, comm);
+    }
+    use_finite_differences = quasistatic.tangent == "Finite differences";
+    fd_step                = std::numeric_limits<double>::max();
+    for (unsigned int i = 0; i < n_owned; ++i)
+      fd_step = std::min(fd_step, 1e-6 * std::cbrt(cloud.volume[i]));
+    fd_step = Utilities::MPI::min(fd_step, comm);
+  }
+
+  // --------------------------------------------------------------- the solve
+
+  double
+  Simulation::residual(std::vector<double> &R, double &reaction_norm)
+  {
+    TimerOutput::Scope t(timer, "implicit: residual");
+    displacement.update_ghost_values();
+    compute_forces(false);
+    const unsigned int n = dim * cloud.n_owned();
+    double             free = 0, fixed = 0;
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        const double r = cloud.volume[k / dim] * force.local_element(k);
+        R[k]           = constrained_dofs[k] ? 0 : r;
+        (constrained_dofs[k] ? fixed : free) += r * r;
+      }
+    double sums[2] = {free, fixed};
+    Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
+    reaction_norm = std::sqrt(sums[1]);
+    return std::sqrt(sums[0]);
+  }
+
+  void
+  Simulation::assemble_tangent()
+  {
+    TimerOutput::Scope t(timer, "implicit: tangent");
+    TangentRows       &rows = tangent->begin(constrained_dofs);
+    ModelState state{cloud, bonds, broken.empty() ? nullptr : broken.data(), displacement.begin(),
+                     force.begin(), nullptr, *fields};
+    bool analytic = !use_finite_differences;
+    for (unsigned int k = 0; k < blocks.size() && analytic; ++k)
+      if (!blocks[k].points.empty() && !blocks[k].material->add_tangent(state, blocks[k].points, rows))
+        analytic = false;
+    // One block without an analytic tangent: finite differences for all
+    // (the force differences see every block at once).
+    if (Utilities::MPI::min(analytic ? 1u : 0u, comm) == 0)
+      {
+        if (!use_finite_differences)
+          {
+            use_finite_differences = true;
+            warnings.push_back("a material has no analytic tangent: the quasistatic solver uses finite differences");
+            tangent->begin(constrained_dofs);
+          }
+        double horizon = 0;
+        for (const auto &b : blocks)
+          horizon = std::max(horizon, b.horizon);
+        tangent->add_finite_differences(displacement, force, [this] { compute_forces(false); }, fd_step,
+                                        tangent->hops * horizon);
+      }
+    tangent->finish();
+  }
+
+  unsigned int
+  Simulation::solve_linear(const std::vector<double> &R, std::vector<double> &du)
+  {
+    TimerOutput::Scope            t(timer, "implicit: linear solve");
+    const IndexSet               &owned = tangent->owned;
+    TrilinosWrappers::MPI::Vector rhs(owned, comm), x(owned, comm);
+    const types::global_dof_index first = owned.n_elements() ? *owned.begin() : 0;
+    for (unsigned int k = 0; k < R.size(); ++k)
+      rhs[first + k] = R[k];
+    rhs.compress(VectorOperation::insert);
+
+    SolverControl control(quasistatic.max_linear, quasistatic.linear_tolerance * rhs.l2_norm(), false, false);
+    std::unique_ptr<TrilinosWrappers::PreconditionBase> preconditioner;
+    if (quasistatic.preconditioner == "AMG")
+      {
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        data.elliptic              = true;
+        data.higher_order_elements = false;
+        data.smoother_sweeps       = 2;
+        data.aggregation_threshold = 1e-4;
+        Teuchos::ParameterList              list;
+        std::unique_ptr<Epetra_MultiVector> unused;
+        data.set_parameters(list, unused, tangent->matrix);
+        list.set("null space: type", "pre-computed");
+        list.set("null space: dimension", 6);
+        list.set("null space: vectors", rigid_modes.data());
+        auto amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+        amg->initialize(tangent->matrix, list);
+        preconditioner = std::move(amg);
+      }
+    else
+      {
+        auto jacobi = std::make_unique<TrilinosWrappers::PreconditionJacobi>();
+        jacobi->initialize(tangent->matrix);
+        preconditioner = std::move(jacobi);
+      }
+    try
+      {
+        if (quasistatic.linear_solver == "CG")
+          SolverCG<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, *preconditioner);
+        else
+          SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, *preconditioner);
+      }
+    catch (const SolverControl::NoConvergence &e)
+      {
+        AssertThrow(false,
+                    ExcMessage("the linear solver (" + quasistatic.linear_solver + ", " + quasistatic.preconditioner +
+                               ") did not converge in " + std::to_string(e.last_step) + " iterations (residual " +
+                               sci(e.last_residual) + ", wanted " + sci(control.tolerance()) +
+                               "): raise Solver/QuasiStatic/Maximum linear iterations, or the tangent is "
+                               "singular (a part of the body held by no condition, e.g. a fragment)"));
+      }
+    for (unsigned int k = 0; k < du.size(); ++k)
+      du[k] = x[first + k];
+    return control.last_step();
+  }
+
+  Simulation::NewtonResult
+  Simulation::solve_newton(const unsigned int step)
+  {
+    const unsigned int  n = dim * cloud.n_owned();
+    std::vector<double> R(n), du(n), u0(n);
+    NewtonResult        result;
+    double              reactions = 0;
+    double              r         = residual(R, reactions);
+    const double        r_start   = r;
+    pcout << "  Newton 0: |R| = " << sci(r, 4) << std::endl;
+    for (unsigned int it = 1;; ++it)
+      {
+        const double target = std::max(quasistatic.tolerance * std::max(r_start, reactions), quasistatic.absolute_tolerance);
+        if (r <= target)
+          break;
+        AssertThrow(it <= quasistatic.max_newton,
+                    ExcMessage("Newton did not converge in load step " + std::to_string(step) + " after " +
+                               std::to_string(quasistatic.max_newton) + " iterations (|R| = " + sci(r) +
+                               ", wanted " + sci(target) + "): take more load steps (Solver/Number of steps) "
+                               "or raise Solver/QuasiStatic/Maximum Newton iterations"));
+        assemble_tangent();
+        const unsigned int linear = solve_linear(R, du);
+        result.linear_iterations += linear;
+
+        for (unsigned int k = 0; k < n; ++k)
+          u0[k] = displacement.local_element(k);
+        double       alpha = 1, r_new = 0;
+        unsigned int cuts  = 0;
+        for (;; ++cuts)
+          {
+            for (unsigned int k = 0; k < n; ++k)
+              displacement.local_element(k) = u0[k] + alpha * du[k];
+            r_new = residual(R, reactions);
+            if (!quasistatic.line_search || (std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r) || cuts == 10)
+              break;
+            alpha /= 2;
+          }
+        AssertThrow(std::isfinite(r_new),
+                    ExcMessage("the residual became non-finite in load step " + std::to_string(step) +
+                               ", Newton iteration " + std::to_string(it) + ": the load step is too large"));
+        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << quasistatic.linear_solver << " "
+              << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string()) << ")"
+              << std::endl;
+        r = r_new;
+        result.newton_iterations = it;
+      }
+    result.residual = r;
+    return result;
+  }
+
+  void
+  Simulation::run_quasistatic()
+  {
+    const unsigned int n_steps = requested_steps;
+    const double       t0      = initial_time;
+    const double       t1      = final_time > initial_time ? final_time : initial_time + 1;
+    const double       dt_load = (t1 - t0) / n_steps;
+    dt                         = dt_load;
+    output.initialize(comm);
+    apply_initial_conditions();
+    breaking_allowed = false;
+    setup_implicit();
+    pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
+          << (use_finite_differences ? "by finite differences" : "analytic") << " with "
+          << tangent->matrix.n_nonzero_elements() << " nonzeros ("
+          << sci(Utilities::MPI::sum(double(tangent->memory_consumption()), comm) / 1048576.0, 4) << " MiB), "
+          << quasistatic.linear_solver << " with " << quasistatic.preconditioner << std::endl;
+
+    displacement.update_ghost_values();
+    compute_forces(true);
+    {
+      const auto row = global_quantities(0, t0);
+      initial_energy = row[2].second + row[3].second;
+    }
+    if (output.is_output_step(0, n_steps))
+      write_output(0, t0);
+
+    const auto   start          = std::chrono::steady_clock::now();
+    unsigned int total_newton   = 0, total_linear = 0, total_solves = 0;
+    unsigned int step           = 1;
+    for (; step <= n_steps; ++step)
+      {
+        const double time = t0 + step * dt_load;
+        pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
+        apply_prescribed(time, dt_load);
+        check_condition_values(bad_condition, time);
+        velocity = 0;
+        if (body_force_depends_on_time)
+          {
+            std::fill(body_force.begin(), body_force.end(), 0.0);
+            for (const auto &bc : conditions)
+              if (bc.type == BoundaryCondition::Type::body_force)
+                for (const unsigned int i : bc.points)
+                  body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
+          }
+        NewtonResult last;
+        unsigned int newly_total = 0, solves = 0;
+        for (;;)
+          {
+            last = solve_newton(step);
+            ++solves;
+            total_newton += last.newton_iterations;
+            total_linear += last.linear_iterations;
+            if (broken.empty())
+              break;
+            const std::size_t newly = break_bonds();
+            newly_total += newly;
+            if (newly == 0)
+              break;
+            pcout << "  " << newly / 2 << " bonds broke: solving the step again" << std::endl;
+            if (solves == quasistatic.max_damage_solves)
+              {
+                warnings.push_back("load step " + std::to_string(step) + ": bonds still broke after " +
+                                   std::to_string(solves) + " solves (Solver/QuasiStatic/Maximum damage solves)");
+                break;
+              }
+          }
+        total_solves += solves;
+        displacement.update_ghost_values();
+        compute_forces(true);
+        last_quasistatic = last;
+        last_damage_solves = solves;
+        if (output.is_output_step(step, n_steps))
+          write_output(step, time);
+      }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
+          << " Newton iterations, " << total_linear << " " << quasistatic.linear_solver << " iterations in "
+          << sci(seconds, 4) << " s" << std::endl;
+    print_summary(seconds, n_steps);
+  }
+
+  std::size_t
+  Simulation::break_bonds()
+  {
+    TimerOutput::Scope t(timer, "damage");
+    displacement.update_ghost_values();
+    ModelState state{cloud, bonds, broken.data(), displacement.begin(), force.begin(), nullptr, *fields};
+    std::size_t newly = 0;
+    for (auto &block : blocks)
+      if (block.damage)
+        newly += block.damage->update(state, block.points, broken.data());
+    broken_bond_count += newly;
+    return Utilities::MPI::sum(newly, comm);
+  }
+} // namespace perideal
