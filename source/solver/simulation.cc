@@ -127,18 +127,20 @@ namespace perideal
     prm.leave_subsection();
 
     prm.enter_subsection("Solver");
-    prm.declare_entry("Type", "Verlet", Patterns::Selection("Verlet|QuasiStatic"),
+    prm.declare_entry("Type", "Verlet", Patterns::Selection("Verlet|QuasiStatic|Newmark"),
                       "Verlet: explicit velocity-Verlet with lumped mass. QuasiStatic: Number of steps "
                       "load steps from Initial time to Final time (a pseudo-time; 0 to 1 if Final time is "
-                      "not after Initial time), each solved by Newton's method (subsection QuasiStatic).");
+                      "not after Initial time), each solved by Newton's method (subsection Implicit). "
+                      "Newmark: implicit dynamics, Number of steps equal steps from Initial time to Final "
+                      "time, each solved by Newton's method (subsection Implicit).");
     prm.declare_entry("Initial time", "0", Patterns::Double(), "Start time.");
     prm.declare_entry("Final time", "0", Patterns::Double(), "End time. The number of steps is ceil((final - initial)/dt), and dt is then shortened to land on the final time exactly.");
     prm.declare_entry("Number of steps", "0", Patterns::Integer(0), "If positive: run exactly this many steps of dt and ignore Final time.");
     prm.declare_entry("Energy growth limit", "10", Patterns::Double(1),
                       "Stop when the kinetic energy exceeds this factor times (initial kinetic + "
                       "strain energy + work of external forces): the run is unstable.");
-    prm.enter_subsection("QuasiStatic");
-    QuasiStaticParameters::declare_parameters(prm);
+    prm.enter_subsection("Implicit");
+    ImplicitParameters::declare_parameters(prm);
     prm.leave_subsection();
     prm.enter_subsection("Verlet");
     prm.declare_entry("Fixed dt", "0", Patterns::Double(0), "Time step; 0: Safety factor times the smallest stable estimate over all points.");
@@ -413,8 +415,8 @@ namespace perideal
 
     prm.enter_subsection("Solver");
     solver_type         = prm.get("Type");
-    prm.enter_subsection("QuasiStatic");
-    quasistatic.parse_parameters(prm);
+    prm.enter_subsection("Implicit");
+    implicit.parse_parameters(prm);
     prm.leave_subsection();
     initial_time        = prm.get_double("Initial time");
     final_time          = prm.get_double("Final time");
@@ -427,6 +429,9 @@ namespace perideal
     prm.leave_subsection();
     AssertThrow(solver_type != "QuasiStatic" || requested_steps > 0,
                 ExcMessage("Solver/Number of steps: the quasistatic solver needs the number of load steps (> 0)"));
+    AssertThrow(solver_type != "Newmark" || (requested_steps > 0 && final_time > initial_time),
+                ExcMessage("Solver/Number of steps and Final time: the Newmark solver takes Number of steps "
+                           "equal steps from Initial time to Final time; set both"));
     AssertThrow(requested_steps > 0 || final_time > initial_time,
                 ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
                            "Solver/Number of steps)"));
@@ -894,16 +899,20 @@ namespace perideal
             });
         row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm));
       }
-    if (solver_type == "QuasiStatic")
+    if (solver_type != "Verlet")
       {
-        row.emplace_back("newton_iterations", last_quasistatic.newton_iterations);
-        row.emplace_back("linear_iterations", last_quasistatic.linear_iterations);
+        row.emplace_back("newton_iterations", last_newton.newton_iterations);
+        row.emplace_back("linear_iterations", last_newton.linear_iterations);
         row.emplace_back("damage_solves", last_damage_solves);
-        row.emplace_back("residual", last_quasistatic.residual);
-        // The force each prescribed condition's supports put on the body: -V f.
+        row.emplace_back("residual", last_newton.residual);
+        // The force each prescribed condition's supports put on the body: m a - V f.
         std::vector<double> reaction(conditions.size(), 0.0);
         for (const auto &c : constraints)
-          reaction[c.condition] -= cloud.volume[c.point] * force.local_element(dim * c.point + c.component);
+          {
+            const unsigned int k = dim * c.point + c.component;
+            reaction[c.condition] += (acceleration.empty() ? 0.0 : mass_density[c.point] * cloud.volume[c.point] * acceleration[k]) -
+                                     cloud.volume[c.point] * force.local_element(k);
+          }
         Utilities::MPI::sum(reaction, comm, reaction);
         for (unsigned int c = 0; c < conditions.size(); ++c)
           if (conditions[c].is_prescribed())
@@ -1049,7 +1058,7 @@ namespace perideal
           << "  bonds:                  " << std::setprecision(12) << bonds_global << " (directed)\n"
           << "  steps:                  " << steps_done << "\n"
           << "  wall time:              " << format_seconds(setup_seconds + loop_seconds)
-          << " (set-up " << format_seconds(setup_seconds) << ", " << (explicit_run ? "time loop " : "load steps ")
+          << " (set-up " << format_seconds(setup_seconds) << ", " << (solver_type == "QuasiStatic" ? "load steps " : "time loop ")
           << format_seconds(loop_seconds) << ")\n";
     if (explicit_run)
       pcout << "  bond updates per second: " << sci(updates / 1e6, 4) << " M (" << sci(updates / 1e6 / ranks, 4)
@@ -1066,7 +1075,7 @@ namespace perideal
           << " bytes per bond\n";
     if (explicit_run)
       pcout << "  stable time step:       " << sci(dt_stable, 6) << ", used " << sci(dt, 6) << "\n";
-    if (explicit_run && e_ref > 0)
+    if (solver_type != "QuasiStatic" && e_ref > 0)
       pcout << "  energy balance error:   "
             << sci((last_kinetic_energy + last_strain_energy - initial_energy - external_work) / e_ref, 3)
             << " (kinetic + strain - initial - external work, relative)\n";
@@ -1088,9 +1097,9 @@ namespace perideal
   {
     setup();
     print_setup_report();
-    if (solver_type == "QuasiStatic")
+    if (solver_type != "Verlet")
       {
-        setup_implicit();
+        setup_implicit(solver_type == "QuasiStatic");
         pcout << "  tangent matrix:    " << tangent->matrix.n_nonzero_elements() << " nonzeros, "
               << mib(Utilities::MPI::sum(double(tangent->memory_consumption()), comm)) << " over all ranks\n";
       }
@@ -1144,6 +1153,11 @@ namespace perideal
     if (solver_type == "QuasiStatic")
       {
         run_quasistatic();
+        return;
+      }
+    if (solver_type == "Newmark")
+      {
+        run_newmark();
         return;
       }
 

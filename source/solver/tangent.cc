@@ -135,6 +135,17 @@ namespace perideal
   }
 
   void
+  Tangent::add_to_diagonal(const std::vector<double> &values)
+  {
+    for (unsigned int k = 0; k < values.size(); ++k)
+      if (!constrained[k])
+        {
+          const Index d = owned.nth_index_in_set(k);
+          matrix.add(d, d, values[k]);
+        }
+  }
+
+  void
   Tangent::finish(double diagonal)
   {
     matrix.compress(VectorOperation::add);

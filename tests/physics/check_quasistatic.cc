@@ -1,16 +1,26 @@
-// Checks a quasistatic pd_app run: region computes of its globals CSV against
-// expected values, and the convergence of Newton from its stdout.
+// Checks an implicit pd_app run (QuasiStatic or Newmark) from its globals CSV
+// and its stdout:
 //
-//   check_quasistatic CSV STDOUT STEP SCALE TOL MIN_ORDER MAX_ITERATIONS [NAME=VALUE ...]
+//   check_quasistatic --csv CSV [--step S --scale X --tol T NAME=VALUE ...]
+//                     [--stdout OUT --min-order P --max-iterations N]
+//                     [--energy-drift B]
+//                     [--reference CSV2 --column C --arrival-tol A --signal-tol G]
 //
-// - every column NAME of the CSV row of load step STEP: |value - VALUE| <= TOL x SCALE;
-// - every load step converges in at most MAX_ITERATIONS Newton iterations;
-// - quadratic convergence: for every Newton iteration k >= 2 whose residual
-//   r_k is above the round-off floor (1e-13 x r_0 of its solve), the order
-//   log(r_k / r_{k-1}) / log(r_{k-1} / r_{k-2}) >= MIN_ORDER; at least one
-//   such iteration must exist.
+// - NAME=VALUE: the column NAME of the CSV row of step S: |value - VALUE| <= T X;
+// - --stdout: every solve converges in at most N Newton iterations, and for
+//   every Newton iteration k >= 2 whose residual r_k is above the round-off
+//   floor (1e-13 x r_0 of its solve) the order
+//   log(r_k / r_{k-1}) / log(r_{k-1} / r_{k-2}) >= P (quadratic: 2); at least
+//   one such iteration must exist if P > 0;
+// - --energy-drift: every row's kinetic + strain energy - external work is
+//   within B x its value at step 0.
+// - --reference: column C against the same column of another run (times
+//   interpolated linearly in CSV2): the arrival time, when C first reaches
+//   half of the reference's last value, within A (relative), and
+//   max |C - C_ref| <= G max |C_ref|.
 // Prints the numbers with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -44,8 +54,8 @@ namespace
       ++failures;
   }
 
-  std::map<std::string, double>
-  read_row(const std::string &file, const double step)
+  std::vector<std::map<std::string, double>>
+  read_rows(const std::string &file)
   {
     std::ifstream in(file);
     if (!in)
@@ -56,6 +66,7 @@ namespace
     std::stringstream h(line);
     for (std::string c; std::getline(h, c, ',');)
       header.push_back(c);
+    std::vector<std::map<std::string, double>> rows;
     while (std::getline(in, line))
       {
         std::stringstream             s(line);
@@ -63,10 +74,122 @@ namespace
         std::string                   c;
         for (unsigned int k = 0; k < header.size() && std::getline(s, c, ','); ++k)
           row[header[k]] = std::atof(c.c_str());
-        if (row.count("step") && row["step"] == step)
-          return row;
+        rows.push_back(row);
       }
+    return rows;
+  }
+
+  std::map<std::string, double>
+  read_row(const std::string &file, const double step)
+  {
+    for (const auto &row : read_rows(file))
+      if (row.count("step") && row.at("step") == step)
+        return row;
     throw std::runtime_error("no row of step " + std::to_string(step) + " in " + file);
+  }
+  // Column C of a run against the same column of a reference run.
+  void
+  compare_signals(const std::string &csv, const std::string &reference, const std::string &column,
+                  const double arrival_tol, const double signal_tol)
+  {
+    const auto series = [&](const std::string &file) {
+      std::vector<std::pair<double, double>> s;
+      for (const auto &row : read_rows(file))
+        {
+          if (!row.count(column))
+            throw std::runtime_error("no column " + column + " in " + file);
+          s.emplace_back(row.at("time"), row.at(column));
+        }
+      if (s.size() < 2)
+        throw std::runtime_error("fewer than 2 rows in " + file);
+      return s;
+    };
+    const auto run = series(csv), ref = series(reference);
+    const double half = 0.5 * ref.back().second;
+    const auto   arrival = [&](const std::vector<std::pair<double, double>> &s) {
+      for (unsigned int k = 1; k < s.size(); ++k)
+        if ((s[k].second - half) * (s[k - 1].second - half) <= 0 && s[k].second != s[k - 1].second)
+          return s[k - 1].first +
+                 (half - s[k - 1].second) / (s[k].second - s[k - 1].second) * (s[k].first - s[k - 1].first);
+      throw std::runtime_error("the signal never reaches half of the reference's last value");
+    };
+    const double t_run = arrival(run), t_ref = arrival(ref);
+    std::cout << std::setprecision(6) << "arrival of " << column << ": " << t_run << ", reference " << t_ref << "\n";
+    check("  |arrival - reference| / reference", std::abs(t_run - t_ref) / t_ref,
+          std::abs(t_run - t_ref) <= arrival_tol * t_ref, "<= " + str(arrival_tol));
+    double worst = 0, peak = 0;
+    for (const auto &p : ref)
+      peak = std::max(peak, std::abs(p.second));
+    for (const auto &p : run)
+      {
+        auto it = std::lower_bound(ref.begin(), ref.end(), std::make_pair(p.first, -1e300));
+        if (it == ref.end())
+          it = ref.end() - 1;
+        if (it == ref.begin())
+          it = ref.begin() + 1;
+        const auto  &a = *(it - 1), &b = *it;
+        const double r = a.second + (p.first - a.first) / (b.first - a.first) * (b.second - a.second);
+        worst          = std::max(worst, std::abs(p.second - r));
+      }
+    check("  max |" + column + " - reference| / max |reference|", worst / peak, worst <= signal_tol * peak,
+          "<= " + str(signal_tol));
+  }
+
+  // Newton histories: "Newton 0: |R| = r" starts a solve, "Newton i: |R| = r" continues it.
+  void
+  check_newton(const std::string &out, const unsigned int max_it, const double min_order)
+  {
+    std::ifstream in(out);
+    if (!in)
+      throw std::runtime_error("cannot open " + out);
+    const std::regex                 newton(R"(^\s*Newton (\d+): \|R\| = ([0-9.eE+-]+))");
+    std::vector<std::vector<double>> solves;
+    std::string                      line;
+    std::smatch                      m;
+    while (std::getline(in, line))
+      if (std::regex_search(line, m, newton))
+        {
+          if (std::stoi(m[1]) == 0)
+            solves.emplace_back();
+          if (solves.empty())
+            throw std::runtime_error("a Newton line before iteration 0");
+          solves.back().push_back(std::atof(m[2].str().c_str()));
+        }
+    if (solves.empty())
+      throw std::runtime_error("no Newton iterations in " + out);
+    unsigned int most = 0, orders = 0;
+    double       worst = 1e300;
+    for (unsigned int s = 0; s < solves.size(); ++s)
+      {
+        const auto &r = solves[s];
+        most          = std::max<unsigned int>(most, r.size() - 1);
+        // Convergence histories only where the order is checked (below
+        // round-off they differ between runs), of the first three solves.
+        if (s < 3 && min_order > 0)
+          {
+            std::cout << "solve " << s + 1 << ": " << r.size() - 1 << " iterations, |R_k|/|R_0|:";
+            for (unsigned int k = 1; k < r.size(); ++k)
+              std::cout << " " << std::setprecision(2) << (r[k] > 1e-13 * r[0] ? r[k] / r[0] : 0.0);
+            std::cout << "\n";
+          }
+        for (unsigned int k = 2; k < r.size(); ++k)
+          if (r[k] > 1e-13 * r[0])
+            {
+              const double order = std::log(r[k] / r[k - 1]) / std::log(r[k - 1] / r[k - 2]);
+              if (s < 3 && min_order > 0)
+                std::cout << "  order at iteration " << k << ": " << std::setprecision(3) << order << "\n";
+              worst = std::min(worst, order);
+              ++orders;
+            }
+      }
+    check("most Newton iterations in a solve", most, most <= max_it, "<= " + std::to_string(max_it));
+    if (min_order > 0)
+      {
+        check("iterations above round-off with an order estimate", orders, orders > 0, "> 0");
+        check("smallest convergence order", orders ? worst : 0, orders > 0 && worst >= min_order,
+              ">= " + str(min_order));
+      }
+    std::cout << solves.size() << " solves\n";
   }
 } // namespace
 
@@ -75,70 +198,84 @@ main(int argc, char *argv[])
 {
   try
     {
-      if (argc < 8)
-        throw std::runtime_error("usage: check_quasistatic CSV STDOUT STEP SCALE TOL MIN_ORDER MAX_ITERATIONS [NAME=VALUE ...]");
-      const double       step      = std::atof(argv[3]);
-      const double       scale     = std::atof(argv[4]);
-      const double       tol       = std::atof(argv[5]);
-      const double       min_order = std::atof(argv[6]);
-      const unsigned int max_it    = std::atoi(argv[7]);
-
-      const auto row = read_row(argv[1], step);
-      for (int a = 8; a < argc; ++a)
+      std::string              csv, out;
+      double                   step = 0, scale = 1, tol = 0, min_order = 0, drift = -1;
+      unsigned int             max_it = 0;
+      std::vector<std::string> expected;
+      std::string              reference, column;
+      double                   arrival_tol = 0, signal_tol = 0;
+      for (int a = 1; a < argc; ++a)
         {
           const std::string arg = argv[a];
-          const auto        eq  = arg.find('=');
-          const std::string name = arg.substr(0, eq);
-          const double      expected = std::atof(arg.substr(eq + 1).c_str());
-          if (!row.count(name))
-            throw std::runtime_error("no column " + name);
-          std::cout << std::setprecision(10) << name << " = " << row.at(name) << " (expected " << expected << ")\n";
-          const double error = std::abs(row.at(name) - expected) / scale;
-          check("  |" + name + " - expected| / scale", error, error <= tol, "<= " + str(tol));
+          const auto        next = [&]() -> std::string {
+            if (a + 1 >= argc)
+              throw std::runtime_error(arg + " needs a value");
+            return argv[++a];
+          };
+          if (arg == "--csv")
+            csv = next();
+          else if (arg == "--stdout")
+            out = next();
+          else if (arg == "--step")
+            step = std::atof(next().c_str());
+          else if (arg == "--scale")
+            scale = std::atof(next().c_str());
+          else if (arg == "--tol")
+            tol = std::atof(next().c_str());
+          else if (arg == "--min-order")
+            min_order = std::atof(next().c_str());
+          else if (arg == "--max-iterations")
+            max_it = std::atoi(next().c_str());
+          else if (arg == "--energy-drift")
+            drift = std::atof(next().c_str());
+          else if (arg == "--reference")
+            reference = next();
+          else if (arg == "--column")
+            column = next();
+          else if (arg == "--arrival-tol")
+            arrival_tol = std::atof(next().c_str());
+          else if (arg == "--signal-tol")
+            signal_tol = std::atof(next().c_str());
+          else if (arg.find('=') != std::string::npos)
+            expected.push_back(arg);
+          else
+            throw std::runtime_error("unknown argument " + arg);
+        }
+      if (csv.empty())
+        throw std::runtime_error("--csv is required");
+
+      if (!expected.empty())
+        {
+          const auto row = read_row(csv, step);
+          for (const auto &arg : expected)
+            {
+              const auto        eq       = arg.find('=');
+              const std::string name     = arg.substr(0, eq);
+              const double      expected = std::atof(arg.substr(eq + 1).c_str());
+              if (!row.count(name))
+                throw std::runtime_error("no column " + name);
+              std::cout << std::setprecision(10) << name << " = " << row.at(name) << " (expected " << expected << ")\n";
+              const double error = std::abs(row.at(name) - expected) / scale;
+              check("  |" + name + " - expected| / scale", error, error <= tol, "<= " + str(tol));
+            }
         }
 
-      // Newton histories: "Load step k/N" starts a step, "Newton i: |R| = r" an iteration.
-      std::ifstream in(argv[2]);
-      if (!in)
-        throw std::runtime_error(std::string("cannot open ") + argv[2]);
-      const std::regex                 newton(R"(^\s*Newton (\d+): \|R\| = ([0-9.eE+-]+))");
-      std::vector<std::vector<double>> solves;
-      std::string                      line;
-      std::smatch                      m;
-      while (std::getline(in, line))
-        if (std::regex_search(line, m, newton))
-          {
-            if (std::stoi(m[1]) == 0)
-              solves.emplace_back();
-            if (solves.empty())
-              throw std::runtime_error("a Newton line before iteration 0");
-            solves.back().push_back(std::atof(m[2].str().c_str()));
-          }
-      if (solves.empty())
-        throw std::runtime_error("no Newton iterations in " + std::string(argv[2]));
-      unsigned int most = 0, orders = 0;
-      double       worst = 1e300;
-      for (unsigned int s = 0; s < solves.size(); ++s)
+      if (drift >= 0)
         {
-          const auto &r = solves[s];
-          most          = std::max<unsigned int>(most, r.size() - 1);
-          std::cout << "solve " << s + 1 << ": " << r.size() - 1 << " iterations, |R_k|/|R_0|:";
-          for (unsigned int k = 1; k < r.size(); ++k)
-            std::cout << " " << std::setprecision(2) << (r[k] > 1e-13 * r[0] ? r[k] / r[0] : 0.0);
-          std::cout << "\n";
-          for (unsigned int k = 2; k < r.size(); ++k)
-            if (r[k] > 1e-13 * r[0])
-              {
-                const double order = std::log(r[k] / r[k - 1]) / std::log(r[k - 1] / r[k - 2]);
-                std::cout << "  order at iteration " << k << ": " << std::setprecision(3) << order << "\n";
-                worst = std::min(worst, order);
-                ++orders;
-              }
+          const auto   first = read_row(csv, 0);
+          const double e0    = first.at("kinetic_energy") + first.at("strain_energy");
+          double       worst = 0;
+          for (const auto &row : read_rows(csv))
+            worst = std::max(worst, std::abs(row.at("kinetic_energy") + row.at("strain_energy") -
+                                             row.at("external_work") - e0) / e0);
+          check("max |E - W - E0| / E0 (E = kinetic + strain, W external work)", worst, worst <= drift,
+                "<= " + str(drift));
         }
-      check("most Newton iterations in a solve", most, most <= max_it, "<= " + std::to_string(max_it));
-      check("iterations above round-off with an order estimate", orders, orders > 0, "> 0");
-      check("smallest convergence order", orders ? worst : 0, orders > 0 && worst >= min_order,
-            ">= " + str(min_order));
+
+      if (!reference.empty())
+        compare_signals(csv, reference, column, arrival_tol, signal_tol);
+      if (!out.empty())
+        check_newton(out, max_it, min_order);
     }
   catch (const std::exception &e)
     {

@@ -14,7 +14,7 @@
 #include <perideal/material/material.h>
 #include <perideal/neighborhood/bonds.h>
 #include <perideal/output/output.h>
-#include <perideal/solver/quasistatic.h>
+#include <perideal/solver/implicit.h>
 #include <perideal/solver/tangent.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -106,7 +106,7 @@ namespace perideal
     double
     point_damage(const unsigned int i) const;
 
-    // The quasistatic solver (quasistatic.cc).
+    // The implicit solvers (implicit.cc).
     struct NewtonResult
     {
       unsigned int        newton_iterations = 0, linear_iterations = 0;
@@ -114,14 +114,17 @@ namespace perideal
     };
     void
     run_quasistatic();
-    /// Tangent sparsity, prescribed DoFs, rigid-body modes (and the check
-    /// that conditions remove them).
     void
-    setup_implicit();
-    /// R = V (f + b) on the free DoFs of the current displacement; returns
-    /// |R| and sets the norm of the reactions (the same on prescribed DoFs).
+    run_newmark();
+    /// Tangent sparsity, prescribed DoFs, rigid-body modes (and, if
+    /// @p need_supports, the check that conditions remove them).
+    void
+    setup_implicit(const bool need_supports);
+    /// R = V (f + b) - M a on the free DoFs of the current displacement
+    /// (a: Newmark's, from newmark_inertia and u_predicted); returns
+    /// |R| and sets |V (f + b)| over all DoFs (the force scale).
     double
-    residual(std::vector<double> &R, double &reaction_norm);
+    residual(std::vector<double> &R, double &force_norm);
     void
     assemble_tangent();
     /// Solves K du = R; returns the Krylov iterations.
@@ -129,6 +132,10 @@ namespace perideal
     solve_linear(const std::vector<double> &R, std::vector<double> &du);
     NewtonResult
     solve_newton(const unsigned int step);
+    /// Newton, then break bonds and solve again while bonds break; sets
+    /// last_newton (iterations summed over the solves) and last_damage_solves.
+    void
+    solve_step(const unsigned int step);
     /// Runs the damage models on the current state; returns the bonds (directed) broken now.
     std::size_t
     break_bonds();
@@ -149,7 +156,7 @@ namespace perideal
 
     // Solver
     std::string  solver_type = "Verlet";
-    QuasiStaticParameters quasistatic;
+    ImplicitParameters implicit;
     double       initial_time = 0, final_time = 0, fixed_dt = 0, safety_factor = 0;
     unsigned int requested_steps = 0;
     double       energy_growth_limit = 0;
@@ -195,7 +202,10 @@ namespace perideal
     std::vector<double>       rigid_modes;      // 6 x owned DoFs, column major
     bool                      use_finite_differences = false;
     double                    fd_step                = 0;
-    NewtonResult              last_quasistatic;
+    NewtonResult              last_newton;
     unsigned int              last_damage_solves = 0;
+    double                    newmark_inertia = 0; // 1/(beta dt^2); 0: quasistatic
+    std::vector<double>       u_predicted;         // Newmark predictor, owned DoFs
+    std::vector<double>       acceleration;        // Newmark, owned DoFs
   };
 } // namespace perideal

@@ -63,6 +63,11 @@ namespace perideal
                            const double                 epsilon,
                            const double                 reach);
 
+    /// Adds @p values (per owned degree of freedom) to the diagonal of the
+    /// free rows (Newmark's mass term).
+    void
+    add_to_diagonal(const std::vector<double> &values);
+
     /// Compresses and puts @p diagonal (0: the mean diagonal of the free
     /// rows) on the rows of constrained degrees of freedom. Collective.
     void

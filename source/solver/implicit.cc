@@ -1,14 +1,18 @@
-// The quasistatic solver: Peridigm's QuasiStatic on deal.II and Trilinos.
+// The implicit solvers: Peridigm's QuasiStatic and implicit dynamics on
+// deal.II and Trilinos.
 //
-// Load step k sets the prescribed displacements and body forces at pseudo-time
-// t_k and solves R(u) = V (f(u) + b) = 0 on the free degrees of freedom by
-// Newton's method: K du = R with K = -dR/du (solver/tangent.h), then a
-// backtracking line search on |R|. Bonds do not break inside Newton (the
-// residual must be smooth); after a converged solve the damage models run,
-// and the step is solved again while bonds break (at most "Maximum damage
-// solves" times).
+// Quasistatic: load step k sets the prescribed displacements and body forces
+// at pseudo-time t_k and solves R(u) = V (f(u) + b) = 0 on the free degrees of
+// freedom. Newmark-beta: step k solves R(u) = V (f(u) + b) - M a(u) = 0 with
+// M = rho V (diagonal: a peridynamic point's consistent mass is its own) and
+// a(u) = (u - u_pred) / (beta dt^2), u_pred = u + dt v + dt^2/2 (1 - 2 beta) a.
+// Both by Newton's method: K du = R with K = -dR/du (solver/tangent.h; plus
+// M / (beta dt^2) for Newmark), then a backtracking line search on |R|. Bonds
+// do not break inside Newton (the residual must be smooth); after a converged
+// solve the damage models run, and the step is solved again while bonds break
+// (at most "Maximum damage solves" times).
 
-#include <perideal/solver/quasistatic.h>
+#include <perideal/solver/implicit.h>
 #include <perideal/solver/simulation.h>
 
 #include <deal.II/base/mpi.h>
@@ -42,11 +46,12 @@ namespace perideal
   } // namespace
 
   void
-  QuasiStaticParameters::declare_parameters(ParameterHandler &prm)
+  ImplicitParameters::declare_parameters(ParameterHandler &prm)
   {
     prm.declare_entry("Tolerance", "1e-8", Patterns::Double(0),
-                      "Newton stops when |R| <= Tolerance x max(|R| at the start of the solve, "
-                      "|reactions|), R the residual force V(f + b) on the free degrees of freedom.");
+                      "Newton stops when |R| <= Tolerance x max(|R| at the start of the solve, |F|): R "
+                      "the residual on the free degrees of freedom (V(f + b), minus M a for Newmark), F "
+                      "= V(f + b) on all of them (the forces in the body, reactions included).");
     prm.declare_entry("Absolute tolerance", "0", Patterns::Double(0),
                       "Newton also stops when |R| <= this (force units); 0: off.");
     prm.declare_entry("Maximum Newton iterations", "25", Patterns::Integer(1),
@@ -73,10 +78,16 @@ namespace perideal
     prm.declare_entry("Maximum damage solves", "20", Patterns::Integer(1),
                       "After a converged solve the damage models break bonds; the step is solved "
                       "again while bonds break, at most this many times (then a warning).");
+    prm.declare_entry("Newmark beta", "0.25", Patterns::Double(0, 0.5),
+                      "Newmark's beta; 1/4 with gamma 1/2 is the trapezoidal rule: unconditionally "
+                      "stable, second order, no numerical damping.");
+    prm.declare_entry("Newmark gamma", "0.5", Patterns::Double(0, 1),
+                      "Newmark's gamma; above 1/2 damps high frequencies (unconditionally stable for "
+                      "gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4).");
   }
 
   void
-  QuasiStaticParameters::parse_parameters(ParameterHandler &prm)
+  ImplicitParameters::parse_parameters(ParameterHandler &prm)
   {
     tolerance          = prm.get_double("Tolerance");
     absolute_tolerance = prm.get_double("Absolute tolerance");
@@ -88,14 +99,18 @@ namespace perideal
     max_linear         = prm.get_integer("Maximum linear iterations");
     tangent            = prm.get("Tangent");
     max_damage_solves  = prm.get_integer("Maximum damage solves");
+    beta               = prm.get_double("Newmark beta");
+    gamma              = prm.get_double("Newmark gamma");
     AssertThrow(tolerance > 0 || absolute_tolerance > 0,
-                ExcMessage("Solver/QuasiStatic/Tolerance and Absolute tolerance are both 0: Newton would never stop"));
+                ExcMessage("Solver/Implicit/Tolerance and Absolute tolerance are both 0: Newton would never stop"));
+    AssertThrow(beta > 0, ExcMessage("Solver/Implicit/Newmark beta must be positive (beta = 0 is the explicit "
+                                     "central difference: use Solver/Type = Verlet)"));
   }
 
   // ------------------------------------------------------------------ set-up
 
   void
-  Simulation::setup_implicit()
+  Simulation::setup_implicit(const bool need_supports)
   {
     unsigned int hops = 1;
     for (const auto &b : blocks)
@@ -173,7 +188,7 @@ namespace perideal
     for (unsigned int mode = 0; mode < 6; ++mode)
       if (restrained[mode] <= 1e-9 * (mode < 3 ? 1 : extent))
         free_modes += (free_modes.empty() ? "" : ", ") + std::string(mode_name[mode]);
-    AssertThrow(free_modes.empty(),
+    AssertThrow(!need_supports || free_modes.empty(),
                 ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
                            "motion(s) " + free_modes + ". Prescribe displacements (Type = Prescribed "
                            "displacement) on regions that hold the body in place"));
@@ -183,7 +198,7 @@ namespace perideal
       tangent = std::make_unique<Tangent>();
       tangent->reinit(cloud, bonds, hops, comm);
     }
-    use_finite_differences = quasistatic.tangent == "Finite differences";
+    use_finite_differences = implicit.tangent == "Finite differences";
     fd_step                = std::numeric_limits<double>::max();
     for (unsigned int i = 0; i < n_owned; ++i)
       fd_step = std::min(fd_step, 1e-6 * std::cbrt(cloud.volume[i]));
@@ -193,22 +208,27 @@ namespace perideal
   // --------------------------------------------------------------- the solve
 
   double
-  Simulation::residual(std::vector<double> &R, double &reaction_norm)
+  Simulation::residual(std::vector<double> &R, double &force_norm)
   {
     TimerOutput::Scope t(timer, "implicit: residual");
     displacement.update_ghost_values();
     compute_forces(false);
     const unsigned int n = dim * cloud.n_owned();
-    double             free = 0, fixed = 0;
+    double             free = 0, all = 0;
     for (unsigned int k = 0; k < n; ++k)
       {
-        const double r = cloud.volume[k / dim] * force.local_element(k);
-        R[k]           = constrained_dofs[k] ? 0 : r;
-        (constrained_dofs[k] ? fixed : free) += r * r;
+        double r = cloud.volume[k / dim] * force.local_element(k);
+        if (newmark_inertia > 0)
+          r -= mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
+               (displacement.local_element(k) - u_predicted[k]);
+        R[k] = constrained_dofs[k] ? 0 : r;
+        free += R[k] * R[k];
+        const double F = cloud.volume[k / dim] * force.local_element(k);
+        all += F * F;
       }
-    double sums[2] = {free, fixed};
+    double sums[2] = {free, all};
     Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
-    reaction_norm = std::sqrt(sums[1]);
+    force_norm = std::sqrt(sums[1]);
     return std::sqrt(sums[0]);
   }
 
@@ -239,6 +259,13 @@ namespace perideal
         tangent->add_finite_differences(displacement, force, [this] { compute_forces(false); }, fd_step,
                                         tangent->hops * horizon);
       }
+    if (newmark_inertia > 0)
+      {
+        std::vector<double> mass(dim * cloud.n_owned());
+        for (unsigned int k = 0; k < mass.size(); ++k)
+          mass[k] = mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia;
+        tangent->add_to_diagonal(mass);
+      }
     tangent->finish();
   }
 
@@ -253,9 +280,9 @@ namespace perideal
       rhs[first + k] = R[k];
     rhs.compress(VectorOperation::insert);
 
-    SolverControl control(quasistatic.max_linear, quasistatic.linear_tolerance * rhs.l2_norm(), false, false);
+    SolverControl control(implicit.max_linear, implicit.linear_tolerance * rhs.l2_norm(), false, false);
     std::unique_ptr<TrilinosWrappers::PreconditionBase> preconditioner;
-    if (quasistatic.preconditioner == "AMG")
+    if (implicit.preconditioner == "AMG")
       {
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
@@ -280,7 +307,7 @@ namespace perideal
       }
     try
       {
-        if (quasistatic.linear_solver == "CG")
+        if (implicit.linear_solver == "CG")
           SolverCG<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, *preconditioner);
         else
           SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, *preconditioner);
@@ -288,10 +315,10 @@ namespace perideal
     catch (const SolverControl::NoConvergence &e)
       {
         AssertThrow(false,
-                    ExcMessage("the linear solver (" + quasistatic.linear_solver + ", " + quasistatic.preconditioner +
+                    ExcMessage("the linear solver (" + implicit.linear_solver + ", " + implicit.preconditioner +
                                ") did not converge in " + std::to_string(e.last_step) + " iterations (residual " +
                                sci(e.last_residual) + ", wanted " + sci(control.tolerance()) +
-                               "): raise Solver/QuasiStatic/Maximum linear iterations, or the tangent is "
+                               "): raise Solver/Implicit/Maximum linear iterations, or the tangent is "
                                "singular (a part of the body held by no condition, e.g. a fragment)"));
       }
     for (unsigned int k = 0; k < du.size(); ++k)
@@ -305,20 +332,20 @@ namespace perideal
     const unsigned int  n = dim * cloud.n_owned();
     std::vector<double> R(n), du(n), u0(n);
     NewtonResult        result;
-    double              reactions = 0;
-    double              r         = residual(R, reactions);
+    double              forces = 0;
+    double              r      = residual(R, forces);
     const double        r_start   = r;
     pcout << "  Newton 0: |R| = " << sci(r, 4) << std::endl;
     for (unsigned int it = 1;; ++it)
       {
-        const double target = std::max(quasistatic.tolerance * std::max(r_start, reactions), quasistatic.absolute_tolerance);
+        const double target = std::max(implicit.tolerance * std::max(r_start, forces), implicit.absolute_tolerance);
         if (r <= target)
           break;
-        AssertThrow(it <= quasistatic.max_newton,
-                    ExcMessage("Newton did not converge in load step " + std::to_string(step) + " after " +
-                               std::to_string(quasistatic.max_newton) + " iterations (|R| = " + sci(r) +
-                               ", wanted " + sci(target) + "): take more load steps (Solver/Number of steps) "
-                               "or raise Solver/QuasiStatic/Maximum Newton iterations"));
+        AssertThrow(it <= implicit.max_newton,
+                    ExcMessage("Newton did not converge in step " + std::to_string(step) + " after " +
+                               std::to_string(implicit.max_newton) + " iterations (|R| = " + sci(r) +
+                               ", wanted " + sci(target) + "): take more (smaller) steps (Solver/Number of steps) "
+                               "or raise Solver/Implicit/Maximum Newton iterations"));
         assemble_tangent();
         const unsigned int linear = solve_linear(R, du);
         result.linear_iterations += linear;
@@ -331,15 +358,32 @@ namespace perideal
           {
             for (unsigned int k = 0; k < n; ++k)
               displacement.local_element(k) = u0[k] + alpha * du[k];
-            r_new = residual(R, reactions);
-            if (!quasistatic.line_search || (std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r) || cuts == 10)
+            r_new = residual(R, forces);
+            if (!implicit.line_search || (std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r) || cuts == 10)
               break;
             alpha /= 2;
           }
         AssertThrow(std::isfinite(r_new),
-                    ExcMessage("the residual became non-finite in load step " + std::to_string(step) +
-                               ", Newton iteration " + std::to_string(it) + ": the load step is too large"));
-        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << quasistatic.linear_solver << " "
+                    ExcMessage("the residual became non-finite in step " + std::to_string(step) +
+                               ", Newton iteration " + std::to_string(it) + ": the step is too large"));
+        if (implicit.line_search && r_new > (1 - 1e-4 * alpha) * r)
+          {
+            // No descent along the Newton direction: at round-off, keep the
+            // better state and stop; far from it, the tangent is wrong.
+            const double scale = std::max(r_start, forces);
+            AssertThrow(r <= 1e-6 * scale,
+                        ExcMessage("Newton stagnated in step " + std::to_string(step) + " at |R| = " + sci(r) +
+                                   " (" + sci(r / scale) + " of the forces): the tangent does not match the "
+                                   "force (try Solver/Implicit/Tangent = Finite differences)"));
+            for (unsigned int k = 0; k < n; ++k)
+              displacement.local_element(k) = u0[k];
+            r = residual(R, forces);
+            pcout << "  Newton " << it << ": |R| = " << sci(r, 4) << " is at round-off (" << sci(r / scale, 3)
+                  << " of the forces): accepted" << std::endl;
+            result.newton_iterations = it;
+            break;
+          }
+        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << implicit.linear_solver << " "
               << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string()) << ")"
               << std::endl;
         r = r_new;
@@ -360,12 +404,12 @@ namespace perideal
     output.initialize(comm);
     apply_initial_conditions();
     breaking_allowed = false;
-    setup_implicit();
+    setup_implicit(true);
     pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
           << (use_finite_differences ? "by finite differences" : "analytic") << " with "
           << tangent->matrix.n_nonzero_elements() << " nonzeros ("
           << sci(Utilities::MPI::sum(double(tangent->memory_consumption()), comm) / 1048576.0, 4) << " MiB), "
-          << quasistatic.linear_solver << " with " << quasistatic.preconditioner << std::endl;
+          << implicit.linear_solver << " with " << implicit.preconditioner << std::endl;
 
     displacement.update_ghost_values();
     compute_forces(true);
@@ -394,40 +438,144 @@ namespace perideal
                 for (const unsigned int i : bc.points)
                   body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
           }
-        NewtonResult last;
-        unsigned int newly_total = 0, solves = 0;
-        for (;;)
-          {
-            last = solve_newton(step);
-            ++solves;
-            total_newton += last.newton_iterations;
-            total_linear += last.linear_iterations;
-            if (broken.empty())
-              break;
-            const std::size_t newly = break_bonds();
-            newly_total += newly;
-            if (newly == 0)
-              break;
-            pcout << "  " << newly / 2 << " bonds broke: solving the step again" << std::endl;
-            if (solves == quasistatic.max_damage_solves)
-              {
-                warnings.push_back("load step " + std::to_string(step) + ": bonds still broke after " +
-                                   std::to_string(solves) + " solves (Solver/QuasiStatic/Maximum damage solves)");
-                break;
-              }
-          }
-        total_solves += solves;
+        solve_step(step);
+        total_newton += last_newton.newton_iterations;
+        total_linear += last_newton.linear_iterations;
+        total_solves += last_damage_solves;
         displacement.update_ghost_values();
         compute_forces(true);
-        last_quasistatic = last;
-        last_damage_solves = solves;
         if (output.is_output_step(step, n_steps))
           write_output(step, time);
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
-          << " Newton iterations, " << total_linear << " " << quasistatic.linear_solver << " iterations in "
+          << " Newton iterations, " << total_linear << " " << implicit.linear_solver << " iterations in "
           << sci(seconds, 4) << " s" << std::endl;
+    print_summary(seconds, n_steps);
+  }
+
+  void
+  Simulation::solve_step(const unsigned int step)
+  {
+    last_newton        = NewtonResult();
+    last_damage_solves = 0;
+    for (;;)
+      {
+        const NewtonResult solve = solve_newton(step);
+        ++last_damage_solves;
+        last_newton.newton_iterations += solve.newton_iterations;
+        last_newton.linear_iterations += solve.linear_iterations;
+        last_newton.residual = solve.residual;
+        if (broken.empty())
+          return;
+        const std::size_t newly = break_bonds();
+        if (newly == 0)
+          return;
+        pcout << "  " << newly / 2 << " bonds broke: solving the step again" << std::endl;
+        if (last_damage_solves == implicit.max_damage_solves)
+          {
+            warnings.push_back("step " + std::to_string(step) + ": bonds still broke after " +
+                               std::to_string(last_damage_solves) +
+                               " solves (Solver/Implicit/Maximum damage solves)");
+            return;
+          }
+      }
+  }
+
+  void
+  Simulation::run_newmark()
+  {
+    const unsigned int n_steps = requested_steps;
+    const double       t0 = initial_time, beta = implicit.beta, gamma = implicit.gamma;
+    dt                    = (final_time - initial_time) / n_steps;
+    output.initialize(comm);
+    apply_initial_conditions();
+    breaking_allowed = false;
+    setup_implicit(false);
+    const unsigned int n = dim * cloud.n_owned();
+    double *const      u = displacement.begin();
+    double *const      v = velocity.begin();
+
+    // The initial acceleration from the equation of motion.
+    displacement.update_ghost_values();
+    compute_forces(true);
+    acceleration.resize(n);
+    for (unsigned int k = 0; k < n; ++k)
+      acceleration[k] = force.local_element(k) / mass_density[k / dim];
+    {
+      const auto row = global_quantities(0, t0);
+      initial_energy = row[2].second + row[3].second;
+    }
+    if (output.is_output_step(0, n_steps))
+      write_output(0, t0);
+    pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of " << sci(dt, 6)
+          << " from t = " << t0 << "; tangent " << (use_finite_differences ? "by finite differences" : "analytic")
+          << " with " << tangent->matrix.n_nonzero_elements() << " nonzeros, " << implicit.linear_solver
+          << " with " << implicit.preconditioner << std::endl;
+
+    // What the supports and the body force do: trapezoidal sums of force x
+    // displacement increment (a support's force is m a - V f there).
+    const auto support_force = [&](const Constraint &c) {
+      const unsigned int k = dim * c.point + c.component;
+      return mass_density[c.point] * cloud.volume[c.point] * acceleration[k] -
+             cloud.volume[c.point] * force.local_element(k);
+    };
+    std::vector<double> support_before(constraints.size()), u_before(n), v_predicted(n), body_before(body_force);
+    const auto          start        = std::chrono::steady_clock::now();
+    unsigned int        total_newton = 0, total_linear = 0;
+    u_predicted.resize(n);
+    for (unsigned int step = 1; step <= n_steps; ++step)
+      {
+        const double time = t0 + step * dt;
+        pcout << "Step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
+        for (unsigned int c = 0; c < constraints.size(); ++c)
+          support_before[c] = support_force(constraints[c]);
+        body_before = body_force;
+        for (unsigned int k = 0; k < n; ++k)
+          {
+            u_before[k]    = u[k];
+            u_predicted[k] = u[k] + dt * v[k] + 0.5 * dt * dt * (1 - 2 * beta) * acceleration[k];
+            v_predicted[k] = v[k] + dt * (1 - gamma) * acceleration[k];
+            u[k]           = u_predicted[k];
+          }
+        apply_prescribed(time, dt);
+        check_condition_values(bad_condition, time);
+        if (body_force_depends_on_time)
+          {
+            std::fill(body_force.begin(), body_force.end(), 0.0);
+            for (const auto &bc : conditions)
+              if (bc.type == BoundaryCondition::Type::body_force)
+                for (const unsigned int i : bc.points)
+                  body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
+          }
+        newmark_inertia = 1 / (beta * dt * dt);
+        solve_step(step);
+        total_newton += last_newton.newton_iterations;
+        total_linear += last_newton.linear_iterations;
+        for (unsigned int k = 0; k < n; ++k)
+          {
+            acceleration[k] = (u[k] - u_predicted[k]) * newmark_inertia;
+            v[k]            = v_predicted[k] + gamma * dt * acceleration[k];
+          }
+        displacement.update_ghost_values();
+        compute_forces(true);
+        double work = 0;
+        for (unsigned int c = 0; c < constraints.size(); ++c)
+          {
+            const unsigned int k = dim * constraints[c].point + constraints[c].component;
+            work += 0.5 * (support_before[c] + support_force(constraints[c])) * (u[k] - u_before[k]);
+          }
+        for (unsigned int k = 0; k < body_force.size(); ++k)
+          if (!constrained_dofs[k])
+            work += 0.5 * (body_before[k] + body_force[k]) * cloud.volume[k / dim] * (u[k] - u_before[k]);
+        external_work += Utilities::MPI::sum(work, comm);
+        if (output.is_output_step(step, n_steps))
+          write_output(step, time);
+      }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
+          << " " << implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s" << std::endl;
+    global_quantities(n_steps, t0 + n_steps * dt);
     print_summary(seconds, n_steps);
   }
 

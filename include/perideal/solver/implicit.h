@@ -1,9 +1,10 @@
 #pragma once
-// Parameters of the quasistatic solver (Solver/QuasiStatic): load steps over
-// a pseudo-time, Newton with a backtracking line search, a Krylov solver
-// (CG, or GMRES) preconditioned by Trilinos ML AMG with the six rigid-body
-// modes as near null space, and the re-solve of a step while bonds break.
-// The solver itself is Simulation::run_quasistatic() (quasistatic.cc).
+// Parameters of the implicit solvers (Solver/Implicit), quasistatic and
+// Newmark-beta: Newton with a backtracking line search, a Krylov solver (CG,
+// or GMRES) preconditioned by Trilinos ML AMG with the six rigid-body modes as
+// near null space, the re-solve of a step while bonds break, and Newmark's
+// beta and gamma. The solvers are Simulation::run_quasistatic() and
+// Simulation::run_newmark() (implicit.cc).
 
 #include <perideal/base/input.h>
 
@@ -11,7 +12,7 @@
 
 namespace perideal
 {
-  struct QuasiStaticParameters
+  struct ImplicitParameters
   {
     double       tolerance          = 1e-8;
     double       absolute_tolerance = 0;
@@ -23,6 +24,8 @@ namespace perideal
     unsigned int max_linear         = 1000;
     std::string  tangent            = "Analytic";
     unsigned int max_damage_solves  = 20;
+    double       beta               = 0.25;
+    double       gamma              = 0.5;
 
     static void
     declare_parameters(ParameterHandler &prm);
