@@ -890,6 +890,7 @@ namespace perideal
       {
         const std::function<double(unsigned int)> value =
           compute.variable == "Damage" ? std::function<double(unsigned int)>([this](unsigned int i) { return point_damage(i); }) :
+          compute.variable == "Bond stretch" ? std::function<double(unsigned int)>([this](unsigned int i) { return point_stretch(i); }) :
           compute.variable[0] == 'D' ?
             std::function<double(unsigned int)>([this, &compute](unsigned int i) {
               return displacement.local_element(dim * i + compute.component);
@@ -1119,6 +1120,29 @@ namespace perideal
         intact += broken[b] ? 0 : V;
       }
     return 1 - intact / all;
+  }
+
+  double
+  Simulation::point_stretch(const unsigned int i) const
+  {
+    double       largest = -std::numeric_limits<double>::max();
+    const double *X = cloud.X.data(), *u = displacement.begin();
+    for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+      {
+        if (!broken.empty() && broken[b])
+          continue;
+        const unsigned int j = bonds.neighbor[b];
+        double             r0 = 0, r = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const double xi = X[dim * j + d] - X[dim * i + d];
+            const double y  = xi + u[dim * j + d] - u[dim * i + d];
+            r0 += xi * xi;
+            r += y * y;
+          }
+        largest = std::max(largest, std::sqrt(r / r0) - 1);
+      }
+    return largest == -std::numeric_limits<double>::max() ? 0 : largest;
   }
 
   std::string

@@ -5,6 +5,7 @@
 //                     [--stdout OUT --min-order P --max-iterations N]
 //                     [--energy-drift B]
 //                     [--reference CSV2 --column C --arrival-tol A --signal-tol G]
+//                     [--fracture SC STRETCH REACTION]
 //
 // - NAME=VALUE: the column NAME of the CSV row of step S: |value - VALUE| <= T X;
 // - --stdout: every solve converges in at most N Newton iterations, and for
@@ -18,6 +19,12 @@
 //   interpolated linearly in CSV2): the arrival time, when C first reaches
 //   half of the reference's last value, within A (relative), and
 //   max |C - C_ref| <= G max |C_ref|.
+// - --fracture (quasistatic with a critical stretch SC; columns STRETCH: the
+//   largest bond stretch, REACTION: a support's reaction): let k be the first
+//   step with a broken bond. Then the stretch of step k-1 is below SC and,
+//   extrapolated in proportion to the load (time), at or above SC at step k;
+//   step k was solved more than once; and at the end the reaction is below
+//   5% of its largest value (the bar has come apart).
 // Prints the numbers with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
 #include <algorithm>
@@ -87,6 +94,30 @@ namespace
         return row;
     throw std::runtime_error("no row of step " + std::to_string(step) + " in " + file);
   }
+  void
+  check_fracture(const std::string &csv, const double sc, const std::string &stretch, const std::string &reaction)
+  {
+    const auto   rows = read_rows(csv);
+    unsigned int k    = 0;
+    while (k < rows.size() && rows[k].at("broken_bonds") == 0)
+      ++k;
+    if (k == rows.size() || k < 2)
+      throw std::runtime_error(k == rows.size() ? "no bond broke" : "bonds broke in the first load step");
+    const auto  &before = rows[k - 1], &at = rows[k];
+    const double s      = before.at(stretch);
+    const double extrapolated = s * at.at("time") / before.at("time");
+    std::cout << std::setprecision(6) << "first broken bonds in step " << at.at("step") << " (t = " << at.at("time")
+              << "): " << at.at("broken_bonds") << "\n";
+    check("largest stretch of the step before", s, s < sc, "< s_c = " + str(sc));
+    check("  extrapolated to the breaking step", extrapolated, extrapolated >= sc, ">= s_c");
+    check("solves of the breaking step", at.at("damage_solves"), at.at("damage_solves") >= 2, ">= 2");
+    double peak = 0;
+    for (const auto &row : rows)
+      peak = std::max(peak, std::abs(row.at(reaction)));
+    const double last = std::abs(rows.back().at(reaction));
+    check("|reaction| at the end / its largest value", last / peak, last <= 0.05 * peak, "<= 0.05");
+  }
+
   // Column C of a run against the same column of a reference run.
   void
   compare_signals(const std::string &csv, const std::string &reference, const std::string &column,
@@ -203,7 +234,8 @@ main(int argc, char *argv[])
       unsigned int             max_it = 0;
       std::vector<std::string> expected;
       std::string              reference, column;
-      double                   arrival_tol = 0, signal_tol = 0;
+      double                   arrival_tol = 0, signal_tol = 0, critical_stretch = 0;
+      std::string              stretch_column, reaction_column;
       for (int a = 1; a < argc; ++a)
         {
           const std::string arg = argv[a];
@@ -236,6 +268,12 @@ main(int argc, char *argv[])
             arrival_tol = std::atof(next().c_str());
           else if (arg == "--signal-tol")
             signal_tol = std::atof(next().c_str());
+          else if (arg == "--fracture")
+            {
+              critical_stretch = std::atof(next().c_str());
+              stretch_column   = next();
+              reaction_column  = next();
+            }
           else if (arg.find('=') != std::string::npos)
             expected.push_back(arg);
           else
@@ -272,6 +310,8 @@ main(int argc, char *argv[])
                 "<= " + str(drift));
         }
 
+      if (critical_stretch > 0)
+        check_fracture(csv, critical_stretch, stretch_column, reaction_column);
       if (!reference.empty())
         compare_signals(csv, reference, column, arrival_tol, signal_tol);
       if (!out.empty())

@@ -105,6 +105,10 @@ namespace perideal
     /// 1 - (intact neighbor volume)/(neighbor volume) of owned point @p i.
     double
     point_damage(const unsigned int i) const;
+    /// The largest stretch of the intact bonds of owned point @p i (ghosted
+    /// displacement).
+    double
+    point_stretch(const unsigned int i) const;
 
     // The implicit solvers (implicit.cc).
     struct NewtonResult
