@@ -20,6 +20,7 @@ namespace perideal
     bool         line_search        = true;
     std::string  linear_solver      = "CG";
     std::string  preconditioner     = "AMG";
+    double       aggregation_threshold = 0; // 0: by the tangent's coupling
     double       linear_tolerance   = 1e-10;
     unsigned int max_linear         = 1000;
     std::string  tangent            = "Analytic";
