@@ -14,21 +14,17 @@ namespace perideal
   void
   TangentRows::add(const unsigned int row, const unsigned int *cols, const double *blocks, const unsigned int n)
   {
-    const std::vector<std::uint8_t> &fixed = *constrained;
-    for (unsigned int r = 0; r < dim; ++r)
+    used                     = true;
+    const unsigned int  r    = row_of[row];
+    const unsigned int *base = column.data();
+    const unsigned int *first = base + start[r], *last = base + start[r + 1];
+    for (unsigned int k = 0; k < n; ++k)
       {
-        if (fixed[dim * row + r])
-          continue;
-        columns.clear();
-        values.clear();
-        for (unsigned int k = 0; k < n; ++k)
-          for (unsigned int c = 0; c < dim; ++c)
-            if (!fixed[dim * cols[k] + c])
-              {
-                columns.push_back(dim * (*gid)[cols[k]] + c);
-                values.push_back(blocks[9 * k + dim * r + c]);
-              }
-        matrix->add(dim * (*gid)[row] + r, columns.size(), columns.data(), values.data(), false, false);
+        const unsigned int *it = std::lower_bound(first, last, cols[k]);
+        Assert(it != last && *it == cols[k], ExcInternalError());
+        double *v = value.data() + 9 * (it - base);
+        for (unsigned int q = 0; q < 9; ++q)
+          v[q] += blocks[9 * k + q];
       }
   }
 
@@ -49,15 +45,23 @@ namespace perideal
       writable.add_indices(cloud->vector_partitioner->ghost_indices());
     TrilinosWrappers::SparsityPattern pattern(owned, owned, writable, comm);
 
-    std::vector<Index> point_columns, dof_columns;
-    // One point row: the columns of points (global indices, sorted) in all
-    // three DoF rows.
+    std::vector<unsigned int> point_columns; // local points
+    std::vector<Index>        dof_columns;
+    rows.row_of.assign(n_local, numbers::invalid_unsigned_int);
+    rows.start.assign(1, 0);
+    rows.column.clear();
+    // One point row: its block columns for the assembly buffer (ascending
+    // local index) and its entries in all three DoF rows of the pattern.
     const auto add_point_row = [&](const unsigned int row) {
       std::sort(point_columns.begin(), point_columns.end());
+      rows.row_of[row] = rows.start.size() - 1;
+      rows.column.insert(rows.column.end(), point_columns.begin(), point_columns.end());
+      rows.start.push_back(rows.column.size());
       dof_columns.clear();
-      for (const Index g : point_columns)
+      for (const unsigned int q : point_columns)
         for (unsigned int c = 0; c < dim; ++c)
-          dof_columns.push_back(dim * g + c);
+          dof_columns.push_back(dim * gid[q] + c);
+      std::sort(dof_columns.begin(), dof_columns.end());
       for (unsigned int r = 0; r < dim; ++r)
         pattern.add_entries(dim * gid[row] + r, dof_columns.begin(), dof_columns.end(), true);
     };
@@ -65,9 +69,9 @@ namespace perideal
     if (hops == 1)
       for (unsigned int i = 0; i < n_owned; ++i)
         {
-          point_columns.assign(1, gid[i]);
+          point_columns.assign(1, i);
           for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-            point_columns.push_back(gid[bonds.neighbor[b]]);
+            point_columns.push_back(bonds.neighbor[b]);
           add_point_row(i);
         }
     else
@@ -103,7 +107,7 @@ namespace perideal
               if (stamp[q] != p)
                 {
                   stamp[q] = p;
-                  point_columns.push_back(gid[q]);
+                  point_columns.push_back(q);
                 }
             };
             for (std::size_t k = start[p]; k < start[p + 1]; ++k)
@@ -118,19 +122,17 @@ namespace perideal
       }
     pattern.compress();
     matrix.reinit(pattern);
+    rows.value.assign(9 * rows.column.size(), 0.0);
   }
 
   TangentRows &
   Tangent::begin(const std::vector<std::uint8_t> &constrained_)
   {
     AssertThrow(constrained_.size() == dim * cloud->n_local(), ExcInternalError());
-    constrained      = constrained_;
-    matrix           = 0;
-    rows.matrix      = &matrix;
-    rows.gid         = &cloud->gid;
-    rows.constrained = &constrained;
-    rows.columns.reserve(dim * 1024);
-    rows.values.reserve(dim * 1024);
+    constrained = constrained_;
+    matrix      = 0;
+    std::fill(rows.value.begin(), rows.value.end(), 0.0);
+    rows.used = false;
     return rows;
   }
 
@@ -148,6 +150,33 @@ namespace perideal
   void
   Tangent::finish(double diagonal)
   {
+    // The blocks of the assembly buffer into the matrix, a DoF row at a time.
+    if (rows.used)
+      {
+        std::vector<Index>  columns;
+        std::vector<double> values;
+        for (unsigned int p = 0; p < rows.row_of.size(); ++p)
+          {
+            const unsigned int r = rows.row_of[p];
+            if (r == numbers::invalid_unsigned_int)
+              continue;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                if (constrained[dim * p + d])
+                  continue;
+                columns.clear();
+                values.clear();
+                for (std::size_t k = rows.start[r]; k < rows.start[r + 1]; ++k)
+                  for (unsigned int c = 0; c < dim; ++c)
+                    if (!constrained[dim * rows.column[k] + c])
+                      {
+                        columns.push_back(dim * cloud->gid[rows.column[k]] + c);
+                        values.push_back(rows.value[9 * k + dim * d + c]);
+                      }
+                matrix.add(dim * cloud->gid[p] + d, columns.size(), columns.data(), values.data(), false, false);
+              }
+          }
+      }
     matrix.compress(VectorOperation::add);
     const unsigned int n = dim * cloud->n_owned();
     if (diagonal == 0)
@@ -326,6 +355,8 @@ namespace perideal
   std::size_t
   Tangent::memory_consumption() const
   {
-    return matrix.memory_consumption();
+    return matrix.memory_consumption() + rows.value.capacity() * sizeof(double) +
+           rows.column.capacity() * sizeof(unsigned int) + rows.start.capacity() * sizeof(std::size_t) +
+           rows.row_of.capacity() * sizeof(unsigned int);
   }
 } // namespace perideal

@@ -14,6 +14,9 @@
 // to be symmetric (j in F(i) exactly when i in F(j)): the solver checks that
 // bonded blocks share their horizon.
 //
+// Materials add 3x3 blocks to a buffer of the sparsity's shape (TangentRows);
+// finish() moves it into the matrix once per row.
+//
 // Without an analytic tangent, add_finite_differences() builds it from force
 // evaluations: central differences, all points of one colour perturbed at
 // once. Colours come from a lattice of cubes of side s, colour = cube

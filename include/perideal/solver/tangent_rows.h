@@ -4,15 +4,8 @@
 // apart from the matrix (solver/tangent.h) so that a material sees neither
 // Trilinos nor MPI.
 
-#include <deal.II/base/types.h>
-
-#include <cstdint>
+#include <cstddef>
 #include <vector>
-
-namespace dealii::TrilinosWrappers
-{
-  class SparseMatrix;
-}
 
 namespace perideal
 {
@@ -21,18 +14,24 @@ namespace perideal
   public:
     /// Adds blocks[9k .. 9k+9) (row-major, 3x3) to the rows of local point
     /// @p row (owned or ghost) at the columns of local point cols[k], k < n.
-    /// A column may appear once per call. Rows and columns of constrained
-    /// degrees of freedom are left out (the solver puts them back as
-    /// identity rows).
+    /// The pair (row, cols[k]) must be in the tangent's sparsity (a point's
+    /// family, and for 2 hops its neighbors' rows with its family's columns).
+    /// Rows and columns of constrained degrees of freedom are left out when
+    /// the blocks go into the matrix (the solver puts identity rows there).
     void
     add(const unsigned int row, const unsigned int *cols, const double *blocks, const unsigned int n);
 
   private:
     friend class Tangent;
-    dealii::TrilinosWrappers::SparseMatrix           *matrix = nullptr;
-    const std::vector<dealii::types::global_dof_index> *gid  = nullptr; // global point index per local point
-    const std::vector<std::uint8_t> *constrained = nullptr;             // per local dof: 1 = constrained
-    std::vector<dealii::types::global_dof_index> columns;               // scratch, one DoF row
-    std::vector<double>                          values;
+    // The blocks accumulate here, one 3x3 block per (row point, column
+    // point) of the sparsity, and go into the Trilinos matrix once per row
+    // when the assembly finishes: a state-based material adds to every
+    // block of a row about once per neighbor, and Trilinos' own insertion
+    // costs far more than an addition here.
+    std::vector<unsigned int> row_of; // per local point: its row here, or -1
+    std::vector<std::size_t>  start;  // per row: its first block
+    std::vector<unsigned int> column; // per block: local point, ascending in a row
+    std::vector<double>       value;  // 9 per block
+    bool                      used = false;
   };
 } // namespace perideal
