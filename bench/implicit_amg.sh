@@ -1,7 +1,8 @@
 #!/bin/bash
-# Implicit solver benchmark: CG iterations of the quasistatic solver as the
-# mesh is refined, with Trilinos ML AMG (rigid-body near null space) and, for
-# comparison, Jacobi; assembly and solve time; memory per degree of freedom.
+# Implicit solver benchmark: Krylov iterations of the quasistatic solver as
+# the mesh is refined, assembled with CG and Trilinos ML AMG (rigid-body near
+# null space) or Jacobi, and matrix-free (GMRES, block Jacobi); assembly and
+# solve time; memory per degree of freedom.
 #
 # Scene: the unit cube, n^3 points, horizon 3.015 h; the layer x < 2h held
 # (u = 0), the layer x > 1 - 2h pulled to u_x = 1e-3; one load step; K = 1
@@ -13,7 +14,9 @@
 #   -m, --models LIST           pmb lps                (default: "pmb lps")
 #   -n, --sizes LIST            points per edge, per model "pmb:10,20,30 lps:8,12,16"
 #                               (default: that)
-#   -p, --preconditioners LIST  AMG Jacobi             (default: "AMG Jacobi")
+#   -p, --preconditioners LIST  AMG Jacobi MF          (default: "AMG Jacobi MF")
+#                               MF: no matrix, Jacobian-free Newton-Krylov
+#                               (GMRES, block Jacobi from the analytic diagonal)
 #   -r, --ranks N               MPI ranks              (default: 1)
 #       --pd-app PATH           (default: build/pd_app)
 #   -o, --out DIR               (default: bench/results/implicit-<date-time>)
@@ -24,7 +27,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$here")
 MODELS="pmb lps"
 SIZES="pmb:10,20,30 lps:8,12,16"
-PRECS="AMG Jacobi"
+PRECS="AMG Jacobi MF"
 RANKS=1
 PD_APP="$root/build/pd_app"
 OUT=""
@@ -107,7 +110,7 @@ write_prm() { # model n preconditioner file
     echo "  set Type = QuasiStatic"
     echo "  set Number of steps = 1"
     echo "  subsection Implicit"
-    echo "    set Preconditioner = $p"
+    if [ "$p" = MF ]; then echo "    set Jacobian = Matrix free"; else echo "    set Preconditioner = $p"; fi
     echo "    set Linear tolerance = 1e-8"
     echo "    set Maximum linear iterations = 5000"
     echo "  end"
@@ -125,7 +128,7 @@ timer() { awk -F'|' -v s="$2" '{ n = $2; gsub(/^ +| +$/, "", n) } n == s { t = $
 {
   echo "date: $(date -Is); $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $RANKS rank(s); commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null)"
   echo
-  echo "| model | n | points | DoFs | nonzeros | preconditioner | Newton its | CG its per Newton it | tangent [s] | linear solve [s] | matrix [MiB] | peak memory [MiB] | scene memory per DoF [bytes] |"
+  echo "| model | n | points | DoFs | nonzeros | preconditioner | Newton its | Krylov its per Newton it | tangent [s] | linear solve [s] | matrix [MiB] | peak memory [MiB] | scene memory per DoF [bytes] |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$OUT/table.md"
 cat "$OUT/table.md"
@@ -137,10 +140,10 @@ for m in $MODELS; do
       (cd "$dir" && mpirun -np "$RANKS" --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
       rc=$?
       its=$(grep -c "^  Newton [1-9]" "$dir/pd.log")
-      cg=$(sed -n 's/^  Newton [1-9][0-9]*: .*(CG \([0-9]*\) iterations.*/\1/p' "$dir/pd.log" | tr '\n' ' ')
+      cg=$(sed -n 's/^  Newton [1-9][0-9]*: .*(\(CG\|GMRES\) \([0-9]*\) iterations.*/\2/p' "$dir/pd.log" | tr '\n' ' ')
       pts=$((n * n * n))
-      nnz=$(sed -n 's/^  tangent matrix: *\([0-9]*\) nonzeros, \([0-9.]*\) MiB.*/\1/p' "$dir/pd.log")
-      mat=$(sed -n 's/^  tangent matrix: *\([0-9]*\) nonzeros, \([0-9.]*\) MiB.*/\2/p' "$dir/pd.log")
+      nnz=$(sed -n 's/^  tangent: .*, \([0-9]*\) nonzeros (\([0-9.e+]*\) MiB).*/\1/p' "$dir/pd.log")
+      mat=$(sed -n 's/^  tangent: .*, \([0-9]*\) nonzeros (\([0-9.e+]*\) MiB).*/\2/p' "$dir/pd.log")
       peak=$(sed -n 's/^  peak memory: *\([0-9.]*\) MiB.*/\1/p' "$dir/pd.log")
       scene=$(sed -n 's/^  scene memory: *\([0-9.]*\) MiB.*/\1/p' "$dir/pd.log")
       ta=$(timer "$dir/pd.log" "implicit: tangent"); tl=$(timer "$dir/pd.log" "implicit: linear solve")

@@ -83,6 +83,13 @@ namespace perideal
                       "falls back to finite differences. Finite differences: central differences "
                       "of the force for every material (6 force evaluations per colour; see the "
                       "set-up report for the number of colours).");
+    prm.declare_entry("Jacobian", "Assembled", Patterns::Selection("Assembled|Matrix free"),
+                      "Assembled: the tangent in a Trilinos sparse matrix, Krylov solver and "
+                      "preconditioner as chosen above. Matrix free: Jacobian-free Newton-Krylov for "
+                      "scenes whose matrix does not fit: GMRES on finite differences of the residual "
+                      "(K v ~ -(R(u + e v) - R(u))/e, one force evaluation per iteration), "
+                      "preconditioned by the inverse 3x3 diagonal blocks of the analytic tangent (9 "
+                      "numbers per point instead of the matrix). Needs materials with an analytic tangent.");
     prm.declare_entry("Maximum damage solves", "20", Patterns::Integer(1),
                       "After a converged solve the damage models break bonds; the step is solved "
                       "again while bonds break, at most this many times (then a warning).");
@@ -107,6 +114,10 @@ namespace perideal
     linear_tolerance   = prm.get_double("Linear tolerance");
     max_linear         = prm.get_integer("Maximum linear iterations");
     tangent            = prm.get("Tangent");
+    jacobian           = prm.get("Jacobian");
+    AssertThrow(jacobian == "Assembled" || tangent == "Analytic",
+                ExcMessage("Solver/Implicit/Jacobian = Matrix free needs Tangent = Analytic (its "
+                           "preconditioner is the analytic tangent's diagonal)"));
     max_damage_solves  = prm.get_integer("Maximum damage solves");
     beta               = prm.get_double("Newmark beta");
     gamma              = prm.get_double("Newmark gamma");
@@ -205,7 +216,10 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "implicit: sparsity");
       tangent = std::make_unique<Tangent>();
-      tangent->reinit(cloud, bonds, hops, comm);
+      if (implicit.jacobian == "Matrix free")
+        tangent->reinit_diagonal(cloud, hops, comm);
+      else
+        tangent->reinit(cloud, bonds, hops, comm);
     }
     use_finite_differences = implicit.tangent == "Finite differences";
     fd_step                = std::numeric_limits<double>::max();
@@ -248,6 +262,22 @@ namespace perideal
     TangentRows       &rows = tangent->begin(constrained_dofs);
     ModelState state{cloud, bonds, broken.empty() ? nullptr : broken.data(), displacement.begin(),
                      force.begin(), nullptr, *fields};
+    if (implicit.jacobian == "Matrix free")
+      {
+        unsigned int missing = 0;
+        for (unsigned int k = 0; k < blocks.size(); ++k)
+          if (!blocks[k].points.empty() && !blocks[k].material->add_tangent(state, blocks[k].points, rows))
+            missing = 1;
+        AssertThrow(Utilities::MPI::max(missing, comm) == 0,
+                    ExcMessage("Solver/Implicit/Jacobian = Matrix free: a material has no analytic tangent "
+                               "for the preconditioner; use Jacobian = Assembled"));
+        std::vector<double> mass;
+        if (newmark_inertia > 0)
+          for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
+            mass.push_back(mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia);
+        tangent->finish_diagonal(mass, block_inverse);
+        return;
+      }
     bool analytic = !use_finite_differences;
     for (unsigned int k = 0; k < blocks.size() && analytic; ++k)
       if (!blocks[k].points.empty() && !blocks[k].material->add_tangent(state, blocks[k].points, rows))
@@ -281,6 +311,8 @@ namespace perideal
   unsigned int
   Simulation::solve_linear(const std::vector<double> &R, std::vector<double> &du)
   {
+    if (implicit.jacobian == "Matrix free")
+      return solve_matrix_free(R, du);
     TimerOutput::Scope            t(timer, "implicit: linear solve");
     const IndexSet               &owned = tangent->owned;
     TrilinosWrappers::MPI::Vector rhs(owned, comm), x(owned, comm);
@@ -335,6 +367,103 @@ namespace perideal
     for (unsigned int k = 0; k < du.size(); ++k)
       du[k] = x[first + k];
     return control.last_step();
+  }
+
+  namespace
+  {
+    /// An operator from a function, for deal.II's solvers.
+    struct FunctionOperator
+    {
+      std::function<void(VectorType &, const VectorType &)> apply;
+      void
+      vmult(VectorType &dst, const VectorType &src) const
+      {
+        apply(dst, src);
+      }
+    };
+  } // namespace
+
+  unsigned int
+  Simulation::solve_matrix_free(const std::vector<double> &R, std::vector<double> &du)
+  {
+    TimerOutput::Scope  t(timer, "implicit: linear solve");
+    const unsigned int  n = R.size();
+    VectorType          rhs(tangent->owned, comm), x(tangent->owned, comm);
+    std::vector<double> u0(n), R_plus(n);
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        rhs.local_element(k) = R[k];
+        u0[k]                = displacement.local_element(k);
+      }
+    double u_norm = 0;
+    for (const double v : u0)
+      u_norm += v * v;
+    u_norm = std::sqrt(Utilities::MPI::sum(u_norm, comm));
+
+    // K v = -dR/du v by a forward difference of the residual; identity rows
+    // at the prescribed DoFs.
+    const FunctionOperator K{[&](VectorType &dst, const VectorType &src) {
+      const double v_norm = src.l2_norm();
+      if (v_norm == 0)
+        {
+          dst = 0;
+          return;
+        }
+      const double e = 1e-8 * (1 + u_norm) / v_norm;
+      for (unsigned int k = 0; k < n; ++k)
+        displacement.local_element(k) = u0[k] + e * src.local_element(k);
+      double forces = 0;
+      residual(R_plus, forces);
+      for (unsigned int k = 0; k < n; ++k)
+        dst.local_element(k) = constrained_dofs[k] ? src.local_element(k) : -(R_plus[k] - R[k]) / e;
+    }};
+    const FunctionOperator P{[&](VectorType &dst, const VectorType &src) {
+      for (unsigned int i = 0; i < n / dim; ++i)
+        for (unsigned int r = 0; r < dim; ++r)
+          {
+            double s = 0;
+            for (unsigned int c = 0; c < dim; ++c)
+              s += block_inverse[9 * i + dim * r + c] * src.local_element(dim * i + c);
+            dst.local_element(dim * i + r) = s;
+          }
+    }};
+    SolverControl control(implicit.max_linear, implicit.linear_tolerance * rhs.l2_norm(), false, false);
+    try
+      {
+        SolverGMRES<VectorType>(control, SolverGMRES<VectorType>::AdditionalData(50, true)).solve(K, x, rhs, P);
+      }
+    catch (const SolverControl::NoConvergence &e)
+      {
+        AssertThrow(false,
+                    ExcMessage("the matrix-free linear solver (GMRES, block Jacobi) did not converge in " +
+                               std::to_string(e.last_step) + " iterations (residual " + sci(e.last_residual) +
+                               ", wanted " + sci(control.tolerance()) +
+                               "): raise Solver/Implicit/Maximum linear iterations, or use Jacobian = Assembled "
+                               "with AMG"));
+      }
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        du[k]                         = x.local_element(k);
+        displacement.local_element(k) = u0[k];
+      }
+    return control.last_step();
+  }
+
+  std::string
+  Simulation::krylov_name() const
+  {
+    return implicit.jacobian == "Matrix free" ? "GMRES" : implicit.linear_solver;
+  }
+
+  std::string
+  Simulation::describe_tangent() const
+  {
+    const double bytes = Utilities::MPI::sum(double(tangent->memory_consumption()), comm);
+    if (implicit.jacobian == "Matrix free")
+      return "matrix free (GMRES, block Jacobi from the analytic diagonal; " + sci(bytes / 1048576.0, 4) + " MiB)";
+    return std::string(use_finite_differences ? "by finite differences" : "analytic") + ", " +
+           std::to_string(tangent->matrix.n_nonzero_elements()) + " nonzeros (" + sci(bytes / 1048576.0, 4) +
+           " MiB), " + implicit.linear_solver + " with " + implicit.preconditioner;
   }
 
   Simulation::NewtonResult
@@ -394,7 +523,7 @@ namespace perideal
             result.newton_iterations = it;
             break;
           }
-        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << implicit.linear_solver << " "
+        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << krylov_name() << " "
               << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string()) << ")"
               << std::endl;
         r = r_new;
@@ -417,10 +546,7 @@ namespace perideal
     breaking_allowed = false;
     setup_implicit(true);
     pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
-          << (use_finite_differences ? "by finite differences" : "analytic") << " with "
-          << tangent->matrix.n_nonzero_elements() << " nonzeros ("
-          << sci(Utilities::MPI::sum(double(tangent->memory_consumption()), comm) / 1048576.0, 4) << " MiB), "
-          << implicit.linear_solver << " with " << implicit.preconditioner << std::endl;
+          << describe_tangent() << std::endl;
 
     displacement.update_ghost_values();
     compute_forces(true);
@@ -460,7 +586,7 @@ namespace perideal
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
-          << " Newton iterations, " << total_linear << " " << implicit.linear_solver << " iterations in "
+          << " Newton iterations, " << total_linear << " " << krylov_name() << " iterations in "
           << sci(seconds, 4) << " s" << std::endl;
     print_summary(seconds, n_steps);
   }
@@ -520,9 +646,7 @@ namespace perideal
     if (output.is_output_step(0, n_steps))
       write_output(0, t0);
     pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of " << sci(dt, 6)
-          << " from t = " << t0 << "; tangent " << (use_finite_differences ? "by finite differences" : "analytic")
-          << " with " << tangent->matrix.n_nonzero_elements() << " nonzeros, " << implicit.linear_solver
-          << " with " << implicit.preconditioner << std::endl;
+          << " from t = " << t0 << "; tangent " << describe_tangent() << std::endl;
 
     // What the supports and the body force do: trapezoidal sums of force x
     // displacement increment (a support's force is m a - V f there).
@@ -585,7 +709,7 @@ namespace perideal
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
-          << " " << implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s" << std::endl;
+          << " " << krylov_name() << " iterations in " << sci(seconds, 4) << " s" << std::endl;
     global_quantities(n_steps, t0 + n_steps * dt);
     print_summary(seconds, n_steps);
   }

@@ -1065,8 +1065,7 @@ namespace perideal
       pcout << "  bond updates per second: " << sci(updates / 1e6, 4) << " M (" << sci(updates / 1e6 / ranks, 4)
             << " M per rank)\n";
     else
-      pcout << "  tangent matrix:         " << tangent->matrix.n_nonzero_elements() << " nonzeros, "
-            << mib(Utilities::MPI::sum(double(tangent->memory_consumption()), comm)) << " over all ranks\n";
+      pcout << "  tangent:                " << describe_tangent() << "\n";
     pcout << "  peak memory:            " << mib(peak_sum) << " over all ranks (largest rank " << mib(peak_max)
           << "); " << sci(peak_sum / std::max(1.0, bonds_global), 3) << " bytes per bond, "
           << sci(peak_sum / std::max<double>(1, cloud.n_global()), 4) << " bytes per point\n";
@@ -1101,8 +1100,7 @@ namespace perideal
     if (solver_type != "Verlet")
       {
         setup_implicit(solver_type == "QuasiStatic");
-        pcout << "  tangent matrix:    " << tangent->matrix.n_nonzero_elements() << " nonzeros, "
-              << mib(Utilities::MPI::sum(double(tangent->memory_consumption()), comm)) << " over all ranks\n";
+        pcout << "  tangent:           " << describe_tangent() << "\n";
       }
     pcout << "Dry run: set-up done, no time step taken." << std::endl;
   }

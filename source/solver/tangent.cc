@@ -2,6 +2,7 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/partitioner.h>
+#include <deal.II/base/tensor.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,7 +22,11 @@ namespace perideal
     for (unsigned int k = 0; k < n; ++k)
       {
         const unsigned int *it = std::lower_bound(first, last, cols[k]);
-        Assert(it != last && *it == cols[k], ExcInternalError());
+        if (it == last || *it != cols[k])
+          {
+            AssertThrow(diagonal_only, ExcInternalError());
+            continue;
+          }
         double *v = value.data() + 9 * (it - base);
         for (unsigned int q = 0; q < 9; ++q)
           v[q] += blocks[9 * k + q];
@@ -125,12 +130,65 @@ namespace perideal
     rows.value.assign(9 * rows.column.size(), 0.0);
   }
 
+  void
+  Tangent::reinit_diagonal(const PointCloud &cloud_, const unsigned int hops_, const MPI_Comm comm_)
+  {
+    cloud = &cloud_;
+    comm  = comm_;
+    hops  = hops_;
+    owned = cloud->vector_partitioner->locally_owned_range();
+    const unsigned int n_local = cloud->n_local();
+    rows.diagonal_only = true;
+    rows.row_of.resize(n_local);
+    rows.start.resize(n_local + 1);
+    rows.column.resize(n_local);
+    for (unsigned int p = 0; p < n_local; ++p)
+      rows.row_of[p] = rows.start[p] = rows.column[p] = p;
+    rows.start[n_local] = n_local;
+    rows.value.assign(9 * n_local, 0.0);
+    // The diagonal blocks of ghost rows go to their owners: 9 entries per point.
+    IndexSet owned9(9 * cloud->n_global()), ghost9(9 * cloud->n_global());
+    const types::global_dof_index first = cloud->n_owned() ? cloud->gid[0] : 0;
+    owned9.add_range(9 * first, 9 * (first + cloud->n_owned()));
+    for (unsigned int p = cloud->n_owned(); p < n_local; ++p)
+      ghost9.add_range(9 * cloud->gid[p], 9 * cloud->gid[p] + 9);
+    block_partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned9, ghost9, comm);
+  }
+
+  void
+  Tangent::finish_diagonal(const std::vector<double> &mass, std::vector<double> &inverse)
+  {
+    VectorType D(block_partitioner);
+    for (unsigned int q = 0; q < rows.value.size(); ++q)
+      D.local_element(q) = rows.value[q];
+    D.compress(VectorOperation::add);
+    const unsigned int n_owned = cloud->n_owned();
+    inverse.resize(9 * n_owned);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        Tensor<2, dim> block;
+        for (unsigned int r = 0; r < dim; ++r)
+          for (unsigned int c = 0; c < dim; ++c)
+            {
+              const bool fixed = constrained[dim * i + r] || constrained[dim * i + c];
+              block[r][c]      = fixed ? (r == c ? 1.0 : 0.0) : D.local_element(9 * i + dim * r + c);
+            }
+        for (unsigned int r = 0; r < dim; ++r)
+          if (!constrained[dim * i + r] && !mass.empty())
+            block[r][r] += mass[dim * i + r];
+        const Tensor<2, dim> inv = invert(block);
+        for (unsigned int q = 0; q < 9; ++q)
+          inverse[9 * i + q] = inv[q / dim][q % dim];
+      }
+  }
+
   TangentRows &
   Tangent::begin(const std::vector<std::uint8_t> &constrained_)
   {
     AssertThrow(constrained_.size() == dim * cloud->n_local(), ExcInternalError());
     constrained = constrained_;
-    matrix      = 0;
+    if (!rows.diagonal_only)
+      matrix = 0;
     std::fill(rows.value.begin(), rows.value.end(), 0.0);
     rows.used = false;
     return rows;

@@ -24,6 +24,7 @@ namespace perideal
     double       linear_tolerance   = 1e-10;
     unsigned int max_linear         = 1000;
     std::string  tangent            = "Analytic";
+    std::string  jacobian           = "Assembled";
     unsigned int max_damage_solves  = 20;
     double       beta               = 0.25;
     double       gamma              = 0.5;

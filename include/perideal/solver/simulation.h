@@ -134,6 +134,15 @@ namespace perideal
     /// Solves K du = R; returns the Krylov iterations.
     unsigned int
     solve_linear(const std::vector<double> &R, std::vector<double> &du);
+    /// The same without a matrix (Jacobian = Matrix free).
+    unsigned int
+    solve_matrix_free(const std::vector<double> &R, std::vector<double> &du);
+    /// The tangent's kind and size, for the reports.
+    std::string
+    describe_tangent() const;
+    /// The Krylov solver's name, for the reports.
+    std::string
+    krylov_name() const;
     NewtonResult
     solve_newton(const unsigned int step);
     /// Newton, then break bonds and solve again while bonds break; sets
@@ -204,6 +213,7 @@ namespace perideal
     std::unique_ptr<Tangent>  tangent;
     std::vector<std::uint8_t> constrained_dofs; // per local DoF
     std::vector<double>       rigid_modes;      // 6 x owned DoFs, column major
+    std::vector<double>       block_inverse;    // matrix free: 9 per owned point
     bool                      use_finite_differences = false;
     double                    fd_step                = 0;
     NewtonResult              last_newton;

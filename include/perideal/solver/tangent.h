@@ -49,6 +49,17 @@ namespace perideal
     void
     reinit(const PointCloud &cloud, const Bonds &bonds, const unsigned int hops, const MPI_Comm comm);
 
+    /// No matrix: only the 3x3 diagonal blocks, for the matrix-free
+    /// solver's block-Jacobi preconditioner (9 doubles per point). Collective.
+    void
+    reinit_diagonal(const PointCloud &cloud, const unsigned int hops, const MPI_Comm comm);
+
+    /// After reinit_diagonal() and an assembly: the inverse of every owned
+    /// point's diagonal block (plus @p mass per owned DoF, may be empty;
+    /// identity rows and columns at constrained DoFs). Collective.
+    void
+    finish_diagonal(const std::vector<double> &mass, std::vector<double> &inverse);
+
     /// Zeroes the matrix and returns the rows to add to. @p constrained: per
     /// local degree of freedom (owned and ghost entries of the cloud's vector
     /// partitioner), 1 if prescribed.
@@ -89,5 +100,6 @@ namespace perideal
     MPI_Comm                        comm;
     std::vector<std::uint8_t>       constrained; // per local dof
     TangentRows                     rows;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> block_partitioner; // diagonal only
   };
 } // namespace perideal

@@ -32,6 +32,7 @@ namespace perideal
     std::vector<std::size_t>  start;  // per row: its first block
     std::vector<unsigned int> column; // per block: local point, ascending in a row
     std::vector<double>       value;  // 9 per block
-    bool                      used = false;
+    bool                      used          = false;
+    bool                      diagonal_only = false; // keep only the blocks (p, p)
   };
 } // namespace perideal
