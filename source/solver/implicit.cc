@@ -565,16 +565,10 @@ namespace perideal
         const double time = t0 + step * dt_load;
         pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
         apply_prescribed(time, dt_load);
-        check_condition_values(bad_condition, time);
         velocity = 0;
         if (body_force_depends_on_time)
-          {
-            std::fill(body_force.begin(), body_force.end(), 0.0);
-            for (const auto &bc : conditions)
-              if (bc.type == BoundaryCondition::Type::body_force)
-                for (const unsigned int i : bc.points)
-                  body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
-          }
+          evaluate_body_force(time);
+        check_condition_values(first_nonfinite_condition(time), time);
         solve_step(step);
         total_newton += last_newton.newton_iterations;
         total_linear += last_newton.linear_iterations;
@@ -674,15 +668,9 @@ namespace perideal
             u[k]           = u_predicted[k];
           }
         apply_prescribed(time, dt);
-        check_condition_values(bad_condition, time);
         if (body_force_depends_on_time)
-          {
-            std::fill(body_force.begin(), body_force.end(), 0.0);
-            for (const auto &bc : conditions)
-              if (bc.type == BoundaryCondition::Type::body_force)
-                for (const unsigned int i : bc.points)
-                  body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
-          }
+          evaluate_body_force(time);
+        check_condition_values(first_nonfinite_condition(time), time);
         newmark_inertia = 1 / (beta * dt * dt);
         solve_step(step);
         total_newton += last_newton.newton_iterations;

@@ -788,25 +788,30 @@ namespace perideal
             target.local_element(dim * i + bc.component) =
               bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
         }
-    if (!body_force.empty())
-      {
-        std::fill(body_force.begin(), body_force.end(), 0.0);
-        for (const auto &bc : conditions)
-          if (bc.type == BoundaryCondition::Type::body_force)
-            for (const unsigned int i : bc.points)
-              body_force[dim * i + bc.component] +=
-                bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
-      }
-    // A condition whose expression is not finite at one of its points.
-    unsigned int bad = 0;
-    for (unsigned int c = 0; c < conditions.size() && bad == 0; ++c)
+    evaluate_body_force(initial_time);
+    check_condition_values(first_nonfinite_condition(initial_time), initial_time);
+  }
+
+  void
+  Simulation::evaluate_body_force(const double time)
+  {
+    if (body_force.empty())
+      return;
+    std::fill(body_force.begin(), body_force.end(), 0.0);
+    for (const auto &bc : conditions)
+      if (bc.type == BoundaryCondition::Type::body_force)
+        for (const unsigned int i : bc.points)
+          body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
+  }
+
+  unsigned int
+  Simulation::first_nonfinite_condition(const double time) const
+  {
+    for (unsigned int c = 0; c < conditions.size(); ++c)
       for (const unsigned int i : conditions[c].points)
-        if (!std::isfinite(conditions[c].value->value(cloud.position(i), initial_time, cloud.hash(i))))
-          {
-            bad = c + 1;
-            break;
-          }
-    check_condition_values(bad, initial_time);
+        if (!std::isfinite(conditions[c].value->value(cloud.position(i), time, cloud.hash(i))))
+          return c + 1;
+    return 0;
   }
 
   void
@@ -1241,14 +1246,7 @@ namespace perideal
             }
           apply_prescribed(new_time, dt);
           if (body_force_depends_on_time)
-            {
-              std::fill(body_force.begin(), body_force.end(), 0.0);
-              for (const auto &bc : conditions)
-                if (bc.type == BoundaryCondition::Type::body_force)
-                  for (const unsigned int i : bc.points)
-                    body_force[dim * i + bc.component] +=
-                      bc.value->value(cloud.position(i), new_time, cloud.hash(i));
-            }
+            evaluate_body_force(new_time);
         }
         {
           TimerOutput::Scope t(timer, "ghost exchange");
@@ -1301,15 +1299,7 @@ namespace perideal
         if (sums[2] > 0)
           {
             // Name the condition (collective), then stop.
-            unsigned int bad = 0;
-            for (unsigned int c = 0; c < conditions.size() && bad == 0; ++c)
-              for (const unsigned int i : conditions[c].points)
-                if (!std::isfinite(conditions[c].value->value(cloud.position(i), new_time, cloud.hash(i))))
-                  {
-                    bad = c + 1;
-                    break;
-                  }
-            check_condition_values(bad, new_time);
+            check_condition_values(first_nonfinite_condition(new_time), new_time);
             AssertThrow(false, ExcMessage("a boundary condition gave a non-finite value at t = " + sci(new_time, 6)));
           }
 

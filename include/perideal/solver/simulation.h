@@ -88,6 +88,13 @@ namespace perideal
     apply_prescribed(const double time, const double dt);
     void
     check_condition_values(const unsigned int bad_local, const double time) const;
+    /// 1 + the index of the first condition whose value is not finite at one
+    /// of its (owned) points at @p time; 0 if none.
+    unsigned int
+    first_nonfinite_condition(const double time) const;
+    /// body_force from the body-force conditions at @p time (if any).
+    void
+    evaluate_body_force(const double time);
     void
     compute_forces(const bool with_energy);
     double
