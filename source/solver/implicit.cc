@@ -322,8 +322,14 @@ namespace perideal
     rhs.compress(VectorOperation::insert);
 
     SolverControl control(implicit.max_linear, implicit.linear_tolerance * rhs.l2_norm(), false, false);
-    std::unique_ptr<TrilinosWrappers::PreconditionBase> preconditioner;
-    if (implicit.preconditioner == "AMG")
+    // The AMG hierarchy of the first Newton iteration of a solve serves its
+    // later iterations (the tangent changes little), until the Krylov
+    // iterations grow past twice those of the iteration that built it.
+    const bool reuse = implicit.preconditioner == "AMG" && amg && !rebuild_amg;
+    std::unique_ptr<TrilinosWrappers::PreconditionBase> jacobi_preconditioner;
+    if (reuse)
+      {}
+    else if (implicit.preconditioner == "AMG")
       {
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
@@ -338,22 +344,23 @@ namespace perideal
         list.set("null space: type", "pre-computed");
         list.set("null space: dimension", 6);
         list.set("null space: vectors", rigid_modes.data());
-        auto amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+        amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
         amg->initialize(tangent->matrix, list);
-        preconditioner = std::move(amg);
       }
     else
       {
         auto jacobi = std::make_unique<TrilinosWrappers::PreconditionJacobi>();
         jacobi->initialize(tangent->matrix);
-        preconditioner = std::move(jacobi);
+        jacobi_preconditioner = std::move(jacobi);
       }
+    const TrilinosWrappers::PreconditionBase &preconditioner =
+      jacobi_preconditioner ? *jacobi_preconditioner : static_cast<const TrilinosWrappers::PreconditionBase &>(*amg);
     try
       {
         if (implicit.linear_solver == "CG")
-          SolverCG<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, *preconditioner);
+          SolverCG<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, preconditioner);
         else
-          SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, *preconditioner);
+          SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, preconditioner);
       }
     catch (const SolverControl::NoConvergence &e)
       {
@@ -364,6 +371,9 @@ namespace perideal
                                "): raise Solver/Implicit/Maximum linear iterations, or the tangent is "
                                "singular (a part of the body held by no condition, e.g. a fragment)"));
       }
+    if (!reuse)
+      amg_iterations = control.last_step();
+    rebuild_amg = reuse && control.last_step() > 2 * amg_iterations + 5;
     for (unsigned int k = 0; k < du.size(); ++k)
       du[k] = x[first + k];
     return control.last_step();
@@ -474,6 +484,7 @@ namespace perideal
     NewtonResult        result;
     double              forces = 0;
     double              r      = residual(R, forces);
+    rebuild_amg                = true; // a new solve builds its own hierarchy
     const double        r_start   = r;
     pcout << "  Newton 0: |R| = " << sci(r, 4) << std::endl;
     for (unsigned int it = 1;; ++it)

@@ -22,6 +22,7 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/trilinos_precondition.h>
 
 #include <map>
 #include <memory>
@@ -221,6 +222,9 @@ namespace perideal
     std::vector<std::uint8_t> constrained_dofs; // per local DoF
     std::vector<double>       rigid_modes;      // 6 x owned DoFs, column major
     std::vector<double>       block_inverse;    // matrix free: 9 per owned point
+    std::unique_ptr<dealii::TrilinosWrappers::PreconditionAMG> amg; // of the current solve
+    bool                      rebuild_amg    = true;
+    unsigned int              amg_iterations = 0; // Krylov iterations with a fresh hierarchy
     bool                      use_finite_differences = false;
     double                    fd_step                = 0;
     NewtonResult              last_newton;
