@@ -232,7 +232,7 @@ namespace perideal
       const double *beta  = state.fields.get("lps_beta").begin();
       const double *gamma = state.fields.get("lps_gamma").begin();
       std::vector<unsigned int> cols;
-      std::vector<double>       blocks, M, g;
+      std::vector<double>       blocks, M, g, w_r0; // w_r0: omega (1 - d) |xi| per bond
       for (const unsigned int i : points)
         {
           const std::size_t first = state.bonds.offsets[i], n = state.bonds.offsets[i + 1] - first;
@@ -240,6 +240,7 @@ namespace perideal
           blocks.assign(9 * (n + 1), 0.0);
           M.assign(3 * n, 0.0);
           g.assign(3 * n, 0.0);
+          w_r0.assign(n, 0.0);
           cols[0] = i;
           double c[3] = {0, 0, 0}, Gs[3] = {0, 0, 0};
           for (std::size_t k = 0; k < n; ++k)
@@ -251,14 +252,9 @@ namespace perideal
               if (state.broken)
                 w *= 1.0 - state.broken[b];
               double xi[3], y[3];
-              for (unsigned int d = 0; d < 3; ++d)
-                {
-                  xi[d] = X[3 * j + d] - X[3 * i + d];
-                  y[d]  = xi[d] + u[3 * j + d] - u[3 * i + d];
-                }
-              const double r0 = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
-              const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-              const double h  = w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * (r - r0));
+              const auto [r0, r] = bond_geometry(X, u, i, j, xi, y);
+              const double h     = w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * (r - r0));
+              w_r0[k]            = w * r0;
               for (unsigned int d = 0; d < 3; ++d)
                 {
                   M[3 * k + d] = y[d] / r;
@@ -290,16 +286,10 @@ namespace perideal
             continue;
           for (std::size_t k = 0; k < n; ++k)
             {
-              const std::size_t  b = first + k;
-              const unsigned int j = state.bonds.neighbor[b];
-              double             w = constant_influence ? omega0 : omega[b];
-              if (state.broken)
-                w *= 1.0 - state.broken[b];
-              if (w == 0)
+              if (w_r0[k] == 0)
                 continue;
-              const double r0 = std::sqrt(std::pow(X[3 * j] - X[3 * i], 2) + std::pow(X[3 * j + 1] - X[3 * i + 1], 2) +
-                                          std::pow(X[3 * j + 2] - X[3 * i + 2], 2));
-              const double s  = V[j] * V[i] * w * r0 * gamma[i];
+              const unsigned int j = cols[k + 1];
+              const double       s = V[j] * V[i] * w_r0[k] * gamma[i];
               for (unsigned int p = 0; p < 3; ++p)
                 {
                   const double qp = s * M[3 * k + p];

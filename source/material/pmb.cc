@@ -148,14 +148,8 @@ namespace perideal
               if (state.broken && state.broken[b])
                 continue;
               double xi[3], y[3];
-              for (unsigned int d = 0; d < 3; ++d)
-                {
-                  xi[d] = X[3 * j + d] - X[3 * i + d];
-                  y[d]  = xi[d] + u[3 * j + d] - u[3 * i + d];
-                }
-              const double r0 = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
-              const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-              const double s  = (r - r0) / r0;
+              const auto [r0, r] = bond_geometry(X, u, i, j, xi, y);
+              const double s     = (r - r0) / r0;
               const double cv = 0.5 * (c.local_element(i) + c.local_element(j)) * V[j] * V[i];
               for (unsigned int p = 0; p < 3; ++p)
                 for (unsigned int q = 0; q < 3; ++q)

@@ -559,14 +559,8 @@ namespace perideal
     pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
           << describe_tangent() << std::endl;
 
-    displacement.update_ghost_values();
-    compute_forces(true);
-    {
-      const auto row = global_quantities(0, t0);
-      initial_energy = row[2].second + row[3].second;
-    }
-    if (output.is_output_step(0, n_steps))
-      write_output(0, t0);
+    evaluate_initial_state();
+    record_initial_state(n_steps, t0);
 
     const auto   start          = std::chrono::steady_clock::now();
     unsigned int total_newton   = 0, total_linear = 0, total_solves = 0;
@@ -639,17 +633,11 @@ namespace perideal
     double *const      v = velocity.begin();
 
     // The initial acceleration from the equation of motion.
-    displacement.update_ghost_values();
-    compute_forces(true);
+    evaluate_initial_state();
     acceleration.resize(n);
     for (unsigned int k = 0; k < n; ++k)
       acceleration[k] = force.local_element(k) / mass_density[k / dim];
-    {
-      const auto row = global_quantities(0, t0);
-      initial_energy = row[2].second + row[3].second;
-    }
-    if (output.is_output_step(0, n_steps))
-      write_output(0, t0);
+    record_initial_state(n_steps, t0);
     pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of " << sci(dt, 6)
           << " from t = " << t0 << "; tangent " << describe_tangent() << std::endl;
 

@@ -381,6 +381,10 @@ namespace perideal
       }
     prm.leave_subsection();
 
+    const auto require_region = [&](const std::string &path, const std::string &region) {
+      AssertThrow(region == "All" || regions.count(region),
+                  ExcMessage(path + "/Region: '" + region + "' is not defined in Discretization/Regions/Names"));
+    };
     prm.enter_subsection("Boundary conditions");
     for (const auto &name : names.conditions)
       {
@@ -389,9 +393,7 @@ namespace perideal
         BoundaryCondition bc;
         bc.name = name;
         bc.parse_parameters(prm, path);
-        AssertThrow(bc.region == "All" || regions.count(bc.region),
-                    ExcMessage(path + "/Region: '" + bc.region +
-                               "' is not defined in Discretization/Regions/Names"));
+        require_region(path, bc.region);
         conditions.push_back(std::move(bc));
         prm.leave_subsection();
       }
@@ -405,9 +407,7 @@ namespace perideal
         RegionCompute compute;
         compute.name = name;
         compute.parse_parameters(prm, path);
-        AssertThrow(compute.region == "All" || regions.count(compute.region),
-                    ExcMessage(path + "/Region: '" + compute.region +
-                               "' is not defined in Discretization/Regions/Names"));
+        require_region(path, compute.region);
         computes.push_back(std::move(compute));
         prm.leave_subsection();
       }
@@ -1110,6 +1110,22 @@ namespace perideal
     pcout << "Dry run: set-up done, no time step taken." << std::endl;
   }
 
+  void
+  Simulation::evaluate_initial_state()
+  {
+    displacement.update_ghost_values();
+    compute_forces(true);
+  }
+
+  void
+  Simulation::record_initial_state(const unsigned int n_steps, const double time)
+  {
+    const auto row = global_quantities(0, time);
+    initial_energy = row[2].second + row[3].second;
+    if (output.is_output_step(0, n_steps))
+      write_output(0, time);
+  }
+
   double
   Simulation::point_damage(const unsigned int i) const
   {
@@ -1200,14 +1216,8 @@ namespace perideal
     const unsigned int n       = cloud.n_owned();
     const unsigned int entries = dim * n;
     apply_initial_conditions();
-    displacement.update_ghost_values();
-    compute_forces(true);
-    {
-      const auto row = global_quantities(0, initial_time);
-      initial_energy = row[2].second + row[3].second;
-    }
-    if (output.is_output_step(0, n_steps))
-      write_output(0, initial_time);
+    evaluate_initial_state();
+    record_initial_state(n_steps, initial_time);
     for (unsigned int k = 0; k < constraints.size(); ++k)
       constraint_force[k] = force.local_element(dim * constraints[k].point + constraints[k].component);
 

@@ -18,8 +18,10 @@
 
 #include <deal.II/lac/la_parallel_vector.h>
 
+#include <cmath>
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -81,6 +83,19 @@ namespace perideal
     const std::uint8_t newly  = breaks & (1 - broken);
     broken |= breaks;
     return newly;
+  }
+
+  /// Bond i->j: xi = X_j - X_i and y = xi + u_j - u_i; returns {|xi|, |y|}.
+  /// For set-up and tangents; the force loops keep their own fused arithmetic.
+  inline std::pair<double, double>
+  bond_geometry(const double *X, const double *u, const unsigned int i, const unsigned int j, double *xi, double *y)
+  {
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        xi[d] = X[3 * j + d] - X[3 * i + d];
+        y[d]  = xi[d] + u[3 * j + d] - u[3 * i + d];
+      }
+    return {std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]), std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])};
   }
 
   /// What a material's bond loop does with bond damage: nothing (no damage

@@ -110,6 +110,12 @@ namespace perideal
     print_summary(const double loop_seconds, const unsigned int steps_done);
     std::string
     locate_nonfinite();
+    /// Forces (and energy density) of the initial state, ghosts updated.
+    void
+    evaluate_initial_state();
+    /// Initial energy from the globals of step 0; writes step 0 if it is an output step.
+    void
+    record_initial_state(const unsigned int n_steps, const double time);
     /// 1 - (intact neighbor volume)/(neighbor volume) of owned point @p i.
     double
     point_damage(const unsigned int i) const;
