@@ -1,7 +1,7 @@
 #!/bin/bash
 # Implicit solver benchmark: Krylov iterations of the quasistatic solver as
 # the mesh is refined, assembled with CG and Trilinos ML AMG (rigid-body near
-# null space) or Jacobi, and matrix-free (GMRES, block Jacobi); assembly and
+# null space) or Jacobi, and matrix-free (CG, block Jacobi); assembly and
 # solve time; memory per degree of freedom.
 #
 # Scene: the unit cube, n^3 points, horizon 3.015 h; the layer x < 2h held
@@ -16,7 +16,7 @@
 #                               (default: that)
 #   -p, --preconditioners LIST  AMG Jacobi MF          (default: "AMG Jacobi MF")
 #                               MF: no matrix, Jacobian-free Newton-Krylov
-#                               (GMRES, block Jacobi from the analytic diagonal)
+#                               (CG, block Jacobi from the analytic diagonal)
 #   -r, --ranks N               MPI ranks              (default: 1)
 #       --pd-app PATH           (default: build/pd_app)
 #   -o, --out DIR               (default: bench/results/implicit-<date-time>)

@@ -68,11 +68,12 @@ namespace perideal
     prm.declare_entry("AMG aggregation threshold", "0", Patterns::Double(0, 1),
                       "ML drops the couplings weaker than this (relative to the diagonal) before it "
                       "aggregates. 0: automatic, 1e-4 (deal.II's default) for a tangent that couples "
-                      "a point to its family only (PMB), 0.1 for one that couples it to its "
+                      "a point to its family only (PMB), 0.005 for one that couples it to its "
                       "neighbors' families (LPS): with hundreds of couplings per row, LPS needs the "
-                      "weak ones dropped (12^3 points: 27 CG iterations with 1e-4, 9-11 with 0.1), "
-                      "while PMB's counts grow with the mesh at 0.1 (10^3 to 30^3 points: 8 to 34) "
-                      "and stay nearly constant at 1e-4 (13 to 18).");
+                      "weak ones dropped (12^3 cube: 27 CG iterations with 1e-4, 13 with 0.005), "
+                      "but not too many (dog-bone of doc/examples/dogbone_tensile: 29 with 0.005, "
+                      "77 with 0.02, 200 with 0.1), while PMB's counts grow with the mesh at 0.1 "
+                      "(10^3 to 30^3 points: 8 to 34) and stay nearly constant at 1e-4 (13 to 18).");
     prm.declare_entry("Linear tolerance", "1e-10", Patterns::Double(0),
                       "The Krylov solver stops at |K du - R| <= this x |R|. Newton converges "
                       "quadratically only while this is far below the Newton tolerance.");
@@ -86,8 +87,9 @@ namespace perideal
     prm.declare_entry("Jacobian", "Assembled", Patterns::Selection("Assembled|Matrix free"),
                       "Assembled: the tangent in a Trilinos sparse matrix, Krylov solver and "
                       "preconditioner as chosen above. Matrix free: Jacobian-free Newton-Krylov for "
-                      "scenes whose matrix does not fit: GMRES on finite differences of the residual "
-                      "(K v ~ -(R(u + e v) - R(u))/e, one force evaluation per iteration), "
+                      "scenes whose matrix does not fit: the Linear solver (CG, or GMRES(50)) on finite "
+                      "differences of the residual (K v ~ -(R(u + e v) - R(u))/e, one force evaluation "
+                      "per iteration), "
                       "preconditioned by the inverse 3x3 diagonal blocks of the analytic tangent (9 "
                       "numbers per point instead of the matrix). Needs materials with an analytic tangent.");
     prm.declare_entry("Maximum damage solves", "20", Patterns::Integer(1),
@@ -336,7 +338,7 @@ namespace perideal
         data.higher_order_elements = false;
         data.smoother_sweeps       = 2;
         data.aggregation_threshold = implicit.aggregation_threshold > 0 ? implicit.aggregation_threshold :
-                                     tangent->hops == 2                 ? 0.1 :
+                                     tangent->hops == 2                 ? 0.005 :
                                                                           1e-4;
         Teuchos::ParameterList              list;
         std::unique_ptr<Epetra_MultiVector> unused;
@@ -440,12 +442,18 @@ namespace perideal
     SolverControl control(implicit.max_linear, implicit.linear_tolerance * rhs.l2_norm(), false, false);
     try
       {
-        SolverGMRES<VectorType>(control, SolverGMRES<VectorType>::AdditionalData(50, true)).solve(K, x, rhs, P);
+        // CG needs a symmetric operator: the tangent of PMB and LPS is, and its
+        // finite difference is up to O(e).
+        if (implicit.linear_solver == "CG")
+          SolverCG<VectorType>(control).solve(K, x, rhs, P);
+        else
+          SolverGMRES<VectorType>(control, SolverGMRES<VectorType>::AdditionalData(50, true)).solve(K, x, rhs, P);
       }
     catch (const SolverControl::NoConvergence &e)
       {
         AssertThrow(false,
-                    ExcMessage("the matrix-free linear solver (GMRES, block Jacobi) did not converge in " +
+                    ExcMessage("the matrix-free linear solver (" + implicit.linear_solver +
+                               ", block Jacobi) did not converge in " +
                                std::to_string(e.last_step) + " iterations (residual " + sci(e.last_residual) +
                                ", wanted " + sci(control.tolerance()) +
                                "): raise Solver/Implicit/Maximum linear iterations, or use Jacobian = Assembled "
@@ -460,17 +468,11 @@ namespace perideal
   }
 
   std::string
-  Simulation::krylov_name() const
-  {
-    return implicit.jacobian == "Matrix free" ? "GMRES" : implicit.linear_solver;
-  }
-
-  std::string
   Simulation::describe_tangent() const
   {
     const double bytes = Utilities::MPI::sum(double(tangent->memory_consumption()), comm);
     if (implicit.jacobian == "Matrix free")
-      return "matrix free (GMRES, block Jacobi from the analytic diagonal; " + sci(bytes / 1048576.0, 4) + " MiB)";
+      return "matrix free (" + implicit.linear_solver + ", block Jacobi from the analytic diagonal; " + sci(bytes / 1048576.0, 4) + " MiB)";
     return std::string(use_finite_differences ? "by finite differences" : "analytic") + ", " +
            std::to_string(tangent->matrix.n_nonzero_elements()) + " nonzeros (" + sci(bytes / 1048576.0, 4) +
            " MiB), " + implicit.linear_solver + " with " + implicit.preconditioner;
@@ -534,7 +536,7 @@ namespace perideal
             result.newton_iterations = it;
             break;
           }
-        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << krylov_name() << " "
+        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << implicit.linear_solver << " "
               << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string()) << ")"
               << std::endl;
         r = r_new;
@@ -585,7 +587,7 @@ namespace perideal
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
-          << " Newton iterations, " << total_linear << " " << krylov_name() << " iterations in "
+          << " Newton iterations, " << total_linear << " " << implicit.linear_solver << " iterations in "
           << sci(seconds, 4) << " s" << std::endl;
     print_summary(seconds, n_steps);
   }
@@ -696,7 +698,7 @@ namespace perideal
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
-          << " " << krylov_name() << " iterations in " << sci(seconds, 4) << " s" << std::endl;
+          << " " << implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s" << std::endl;
     global_quantities(n_steps, t0 + n_steps * dt);
     print_summary(seconds, n_steps);
   }

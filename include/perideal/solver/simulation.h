@@ -154,9 +154,6 @@ namespace perideal
     /// The tangent's kind and size, for the reports.
     std::string
     describe_tangent() const;
-    /// The Krylov solver's name, for the reports.
-    std::string
-    krylov_name() const;
     NewtonResult
     solve_newton(const unsigned int step);
     /// Newton, then break bonds and solve again while bonds break; sets
