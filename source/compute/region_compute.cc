@@ -12,13 +12,15 @@ namespace perideal
   {
     prm.declare_entry("Region", "All", Patterns::Anything(), "Name of a region of Discretization/Regions, or All.");
     prm.declare_entry("Variable", "Displacement x",
-                      Patterns::Selection("Displacement x|Displacement y|Displacement z|Force x|Force y|Force z|Damage|"
-                                        "Bond stretch"),
+                      Patterns::Selection("Displacement x|Displacement y|Displacement z|Force x|Force y|Force z|"
+                                        "Position x|Position y|Position z|Damage|Bond stretch"),
                       "Displacement: of a point. Force: the force on a point, V f (force density times "
                       "volume), internal plus body force; its sum over a region of prescribed points is "
-                      "minus the reaction there. Damage: point damage. Bond stretch: the largest "
-                      "stretch (|y| - |xi|)/|xi| of a point's intact bonds (with Maximum: how close the "
-                      "region is to a critical stretch).");
+                      "minus the reaction there. Position: the reference position of a point (with "
+                      "Mean: where a region's mean displacement is taken, e.g. for the length of a "
+                      "virtual strain gauge). Damage: point damage. Bond stretch: the largest stretch "
+                      "(|y| - |xi|)/|xi| of a point's intact bonds (with Maximum: how close the region "
+                      "is to a critical stretch).");
     prm.declare_entry("Operation", "Sum", Patterns::Selection("Sum|Mean|Minimum|Maximum"),
                       "Mean is volume weighted: sum V q / sum V.");
   }

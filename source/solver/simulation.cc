@@ -900,6 +900,10 @@ namespace perideal
             std::function<double(unsigned int)>([this, &compute](unsigned int i) {
               return displacement.local_element(dim * i + compute.component);
             }) :
+          compute.variable[0] == 'P' ?
+            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
+              return cloud.X[dim * i + compute.component];
+            }) :
             std::function<double(unsigned int)>([this, &compute](unsigned int i) {
               return cloud.volume[i] * force.local_element(dim * i + compute.component);
             });

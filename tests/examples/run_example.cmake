@@ -9,8 +9,10 @@
 #   REGEX        optional: must match the standard output of RUN
 #   LAST_ROW_MIN optional: column|minimum pairs; the last row of CSV must
 #                have column >= minimum (e.g. broken_bonds|1)
-#   EXPECTED     optional: a stored file; WORKDIR/output (the set-up report's
-#                points, bonds and block lines, then CSV) must match it
+#   CHECK        optional: a command run in WORKDIR after RUN; must exit 0
+#   EXPECTED     optional: a stored file; WORKDIR/compared.txt (the set-up report's
+#                points, bonds and block lines, then CSV, or the standard
+#                output of CHECK if there is one) must match it
 #   NUMDIFF, NUMDIFF_ARGS  the numdiff executable and its tolerances
 foreach(var RUN WORKDIR PRM SOURCE_DIR CSV)
   if(NOT DEFINED ${var})
@@ -68,6 +70,17 @@ if(DEFINED LAST_ROW_MIN)
   endforeach()
 endif()
 
+if(DEFINED CHECK)
+  string(REPLACE "|" ";" check "${CHECK}")
+  execute_process(COMMAND ${check}
+    WORKING_DIRECTORY "${WORKDIR}"
+    OUTPUT_VARIABLE check_out ERROR_VARIABLE check_err RESULT_VARIABLE check_rc)
+  message("---- ${CHECK}\n${check_out}${check_err}")
+  if(NOT check_rc EQUAL 0)
+    message(FATAL_ERROR "the check failed (exit code ${check_rc})")
+  endif()
+endif()
+
 if(DEFINED EXPECTED)
   # The set-up report's lines that do not depend on the rank count (before
   # 'Time integration'), then the CSV.
@@ -83,11 +96,15 @@ if(DEFINED EXPECTED)
     string(APPEND output "${line}\n")
   endforeach()
   string(REPLACE "<semicolon>" ";" output "${output}")
-  file(READ "${WORKDIR}/${CSV}" csv)
-  string(APPEND output "${csv}")
-  file(WRITE "${WORKDIR}/output" "${output}")
+  if(DEFINED CHECK)
+    string(APPEND output "${check_out}")
+  else()
+    file(READ "${WORKDIR}/${CSV}" csv)
+    string(APPEND output "${csv}")
+  endif()
+  file(WRITE "${WORKDIR}/compared.txt" "${output}")
   string(REPLACE "|" ";" numdiff_args "${NUMDIFF_ARGS}")
-  execute_process(COMMAND "${NUMDIFF}" ${numdiff_args} "${EXPECTED}" "${WORKDIR}/output"
+  execute_process(COMMAND "${NUMDIFF}" ${numdiff_args} "${EXPECTED}" "${WORKDIR}/compared.txt"
     OUTPUT_VARIABLE diff_out RESULT_VARIABLE diff_rc)
   if(NOT diff_rc EQUAL 0)
     message(FATAL_ERROR "numdiff ${NUMDIFF_ARGS}: ${WORKDIR}/output differs from ${EXPECTED}\n${diff_out}")

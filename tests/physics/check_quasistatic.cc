@@ -6,6 +6,7 @@
 //                     [--energy-drift B]
 //                     [--reference CSV2 --column C --arrival-tol A --signal-tol G]
 //                     [--fracture SC STRETCH REACTION]
+//                     [--modulus UL UR XL XR REACTION AREA E TOL]
 //
 // - NAME=VALUE: the column NAME of the CSV row of step S: |value - VALUE| <= T X;
 // - --stdout: every solve converges in at most N Newton iterations, and for
@@ -25,6 +26,10 @@
 //   extrapolated in proportion to the load (time), at or above SC at step k;
 //   step k was solved more than once; and at the end the reaction is below
 //   5% of its largest value (the bar has come apart).
+// - --modulus (a tensile test with a virtual strain gauge): in the row of step
+//   S, the gauge strain (UR - UL) / (XR - XL) (columns: the mean displacement
+//   and the mean position of the gauge's two ends), the stress REACTION / AREA
+//   and Young's modulus stress / strain, within TOL (relative) of E.
 // Prints the numbers with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
 #include <algorithm>
@@ -166,6 +171,23 @@ namespace
           "<= " + str(signal_tol));
   }
 
+  void
+  check_modulus(const std::map<std::string, double> &row, const std::vector<std::string> &columns,
+                const double area, const double reference, const double tol)
+  {
+    for (const auto &c : columns)
+      if (!row.count(c))
+        throw std::runtime_error("no column " + c);
+    const double strain  = (row.at(columns[1]) - row.at(columns[0])) / (row.at(columns[3]) - row.at(columns[2]));
+    const double stress  = row.at(columns[4]) / area;
+    const double modulus = stress / strain;
+    std::cout << std::setprecision(6) << "gauge length = " << row.at(columns[3]) - row.at(columns[2])
+              << ", gauge strain = " << strain << ", stress = " << stress << "\n"
+              << "Young's modulus = " << modulus << " (expected " << reference << ")\n";
+    check("  |E / expected - 1|", std::abs(modulus / reference - 1), std::abs(modulus / reference - 1) <= tol,
+          "<= " + str(tol));
+  }
+
   // Newton histories: "Newton 0: |R| = r" starts a solve, "Newton i: |R| = r" continues it.
   void
   check_newton(const std::string &out, const unsigned int max_it, const double min_order)
@@ -236,6 +258,8 @@ main(int argc, char *argv[])
       std::string              reference, column;
       double                   arrival_tol = 0, signal_tol = 0, critical_stretch = 0;
       std::string              stretch_column, reaction_column;
+      std::vector<std::string> modulus_columns;
+      double                   area = 0, modulus = 0, modulus_tol = 0;
       for (int a = 1; a < argc; ++a)
         {
           const std::string arg = argv[a];
@@ -274,6 +298,14 @@ main(int argc, char *argv[])
               stretch_column   = next();
               reaction_column  = next();
             }
+          else if (arg == "--modulus")
+            {
+              for (unsigned int c = 0; c < 5; ++c)
+                modulus_columns.push_back(next());
+              area        = std::atof(next().c_str());
+              modulus     = std::atof(next().c_str());
+              modulus_tol = std::atof(next().c_str());
+            }
           else if (arg.find('=') != std::string::npos)
             expected.push_back(arg);
           else
@@ -310,6 +342,8 @@ main(int argc, char *argv[])
                 "<= " + str(drift));
         }
 
+      if (!modulus_columns.empty())
+        check_modulus(read_row(csv, step), modulus_columns, area, modulus, modulus_tol);
       if (critical_stretch > 0)
         check_fracture(csv, critical_stretch, stretch_column, reaction_column);
       if (!reference.empty())

@@ -27,7 +27,17 @@
 //    information.
 // 4. For information: interior energy density against the continuum value
 //    K (tr H)^2/2 + G |dev H|^2 (the cubic lattice is not isotropic).
-// 5. A non-affine field: the force is consistent with the energy
+// 5. The lattice's elastic constants: C11, C12, C44 from second differences of
+//    the code's interior energy density (strains of 1e-4; the cubic terms
+//    cancel) equal the linearized lattice sums
+//      C_ijkl = K d_ij d_kl + (15 G / m) sum omega V |xi|^2
+//               (n_i n_j - d_ij/3)(n_k n_l - d_kl/3),   n = xi/|xi|,
+//    within 1e-6, and so does Young's modulus along an axis,
+//    E100 = (C11 - C12)(C11 + 2 C12)/(C11 + C12): the discrete LPS is a cubic
+//    material whose E100 differs from 9KG/(3K+G) (printed; see
+//    doc/examples/dogbone_tensile, whose lattice_modulus.py computes the
+//    same sums).
+// 6. A non-affine field: the force is consistent with the energy
 //    (-sum V f.u = 2 sum V W for a quadratic energy), and global sums are
 //    printed for the comparison of 1 and 2 ranks (numdiff, stored output).
 
@@ -175,6 +185,63 @@ main(int argc, char *argv[])
       const double ratio = error_of_scale[1e-3] / error_of_scale[1e-4];
       report.check("dilatation error ratio |H| 1e-3 : 1e-4", ratio, ratio > 90 && ratio < 110,
                    "100 +- 10%: second order");
+    }
+
+    // Elastic constants of the lattice, from the code's energy density at
+    // points with a complete family, and from the lattice sums.
+    {
+      const double s = 1e-4;
+      // Voigt index -> the symmetric strain with that engineering component.
+      const auto strain = [](const unsigned int a) {
+        static const unsigned int i[6] = {0, 1, 2, 1, 0, 0}, j[6] = {0, 1, 2, 2, 2, 1};
+        Tensor<2, 3>              e;
+        e[i[a]][j[a]] += a < 3 ? 1.0 : 0.5;
+        if (a >= 3)
+          e[j[a]][i[a]] += 0.5;
+        return e;
+      };
+      const auto interior_energy = [&](const Tensor<2, 3> &H) {
+        harness.set_displacement([&](const Point<3> &x) { return Tensor<1, 3>(H * Tensor<1, 3>(x)); });
+        harness.evaluate(true);
+        double sums[2] = {0, 0};
+        for (unsigned int i = 0; i < harness.cloud.n_owned(); ++i)
+          if (harness.depth(i, lower, upper) > horizon)
+            sums[0] += harness.energy[i], sums[1] += 1;
+        Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
+        return sums[0] / sums[1];
+      };
+      const auto code_entry = [&](const unsigned int a, const unsigned int b) {
+        const Tensor<2, 3> ea = s * strain(a), eb = s * strain(b);
+        return (interior_energy(ea + eb) - interior_energy(ea - eb) - interior_energy(eb - ea) +
+                interior_energy(-ea - eb)) /
+               (4 * s * s);
+      };
+      const auto lattice_entry = [&](const unsigned int i, const unsigned int j, const unsigned int k,
+                                     const unsigned int l) {
+        double sum = 0;
+        for (const auto &x : lattice.xi)
+          {
+            const Tensor<1, 3> n = x / x.norm();
+            sum += x.norm_square() * V * (n[i] * n[j] - (i == j) / 3.0) * (n[k] * n[l] - (k == l) / 3.0);
+          }
+        return K * (i == j) * (k == l) + 15 * G / lattice.m * sum;
+      };
+      const double code[3]    = {code_entry(0, 0), code_entry(0, 1), code_entry(3, 3)};
+      const double sums[3]    = {lattice_entry(0, 0, 0, 0), lattice_entry(0, 0, 1, 1), lattice_entry(1, 2, 1, 2)};
+      const char  *names[3]   = {"C11", "C12", "C44"};
+      const auto   modulus100 = [](const double *C) { return (C[0] - C[1]) * (C[0] + 2 * C[1]) / (C[0] + C[1]); };
+      report.line("elastic constants of the lattice (code: energy differences at strain 1e-4; sums: linearized):");
+      for (unsigned int c = 0; c < 3; ++c)
+        {
+          report.value(std::string("  ") + names[c] + " (code)", code[c]);
+          const double dev = std::abs(code[c] / sums[c] - 1);
+          report.check(std::string("  |") + names[c] + " code / lattice sum - 1|", dev, dev < 1e-6, "< 1e-6");
+        }
+      const double E100 = modulus100(code), E_iso = 9 * K * G / (3 * K + G);
+      const double dev  = std::abs(E100 / modulus100(sums) - 1);
+      report.check("  |E100 code / lattice sum - 1|", dev, dev < 1e-6, "< 1e-6");
+      report.value("  (info) E100 / (9KG/(3K+G)) - 1", E100 / E_iso - 1);
+      report.value("  (info) isotropic C11 = K + 4G/3", K + 4 * G / 3);
     }
 
     // A non-affine field: global sums for the 1 vs 2 ranks comparison.

@@ -1,10 +1,11 @@
 #pragma once
 // A global quantity over a region, written as a column of the globals CSV
 // (Peridigm's Node_Set_Data computes): the sum, volume-weighted mean, minimum
-// or maximum of a displacement or force component, the damage or the largest
-// bond stretch over the region's points.
+// or maximum of a displacement, force or reference-position component, the
+// damage or the largest bond stretch over the region's points.
 // Reaction forces, virtual strain gauges (the difference of two region means
-// of the displacement) and probes are built from it.
+// of the displacement over the difference of their mean positions) and probes
+// are built from it.
 
 #include <perideal/base/input.h>
 
