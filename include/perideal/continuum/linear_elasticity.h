@@ -1,0 +1,77 @@
+#pragma once
+// Linear elasticity on FE_Q(p)^dim cells: the continuum model of the blocks
+// that do not break (doc/coupling.md). Per cell: the stiffness matrix
+//   K_ij = int lambda div(phi_i) div(phi_j) + 2 mu eps(phi_i) : eps(phi_j),
+// the row-sum lumped mass, and the load of a body force or a face traction.
+// The stable explicit step of the assembled, lumped system follows from
+// Gershgorin: omega_max^2 <= max_a sum_b |K_ab| / M_a, dt <= 2 / omega_max.
+// K, G and rho are those of the PD material of the same name, so that a block
+// can switch between PD and FE without changing the material.
+
+#include <perideal/base/input.h>
+
+#include <deal.II/base/tensor.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+namespace perideal
+{
+  class LinearElasticity
+  {
+  public:
+    /// Bulk modulus K, shear modulus G, density rho; all must be positive.
+    LinearElasticity(const double K, const double G, const double rho);
+
+    /// The cell stiffness matrix. @p fe_values is reinit'ed on the cell with
+    /// update_gradients and update_JxW_values, its element an FESystem of
+    /// dim scalar components.
+    void
+    cell_matrix(const dealii::FEValues<dim> &fe_values, dealii::FullMatrix<double> &matrix) const;
+
+    /// The cell's row sums of the consistent mass matrix, rho int phi_i (the
+    /// lumped mass; positive for Lagrange Q1 and Q2). Needs update_values.
+    void
+    cell_lumped_mass(const dealii::FEValues<dim> &fe_values, dealii::Vector<double> &mass) const;
+
+    /// int phi_i . b over the cell for a constant body force density @p b
+    /// (force per volume). Needs update_values.
+    static void
+    cell_body_force(const dealii::FEValues<dim> &fe_values,
+                    const dealii::Tensor<1, dim> &b,
+                    dealii::Vector<double>      &load);
+
+    /// int phi_i . t over a face for a constant traction @p t (force per
+    /// area). Needs update_values and update_JxW_values.
+    static void
+    face_traction(const dealii::FEFaceValues<dim> &fe_face_values,
+                  const dealii::Tensor<1, dim>   &t,
+                  dealii::Vector<double>        &load);
+
+    /// The stable step of an explicit central-difference (velocity-Verlet)
+    /// step from the assembled row sums of |K| and the lumped masses of the
+    /// same DoFs: 2 / sqrt(max_a row_abs_sum_a / mass_a). Local: take the
+    /// minimum over ranks.
+    static double
+    stable_time_step(const std::vector<double> &row_abs_sum, const std::vector<double> &mass);
+
+    double
+    young_modulus() const
+    {
+      return 9 * K * G / (3 * K + G);
+    }
+    double
+    poisson_ratio() const
+    {
+      return (3 * K - 2 * G) / (2 * (3 * K + G));
+    }
+    double
+    p_wave_speed() const
+    {
+      return std::sqrt((K + 4 * G / 3) / rho);
+    }
+
+    const double K, G, rho;
+    const double lambda, mu;
+  };
+} // namespace perideal
