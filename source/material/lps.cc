@@ -149,6 +149,25 @@ namespace perideal
       return true;
     }
 
+    bool
+    weight_energy(const ModelState &state, const std::vector<unsigned int> &points, const double *weight) override
+    {
+      // The force state of point i is omega (gamma_i theta_i |xi| + beta_i e):
+      // scaling beta_i and gamma_i by w_i weights its energy by w_i; the
+      // force and the tangent read them from the fields.
+      VectorType &beta  = state.fields.get("lps_beta");
+      VectorType &gamma = state.fields.get("lps_gamma");
+      VectorType &D     = state.fields.get("lps_coupling");
+      for (const unsigned int i : points)
+        {
+          beta.local_element(i) *= weight[i];
+          gamma.local_element(i) *= weight[i];
+          D.local_element(i) *= weight[i];
+        }
+      energy_weighted = true;
+      return true;
+    }
+
     void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
@@ -312,6 +331,7 @@ namespace perideal
     bool                        constant_influence = true;
     double                      omega0             = 1;
     std::vector<double>         omega; // per bond, only for a non-constant influence function
+    bool                        energy_weighted = false; // weight_energy() scaled the fields
 
     template <BondDamage mode, bool weighted>
     void
@@ -378,6 +398,8 @@ namespace perideal
       const double       *alpha    = state.fields.get("lps_alpha").begin();
       const double       *beta     = state.fields.get("lps_beta").begin();
       const double       *theta    = state.fields.get("dilatation").begin();
+      const double       *m        = state.fields.get("weighted_volume").begin();
+      const double       *gamma    = state.fields.get("lps_gamma").begin();
       double             *f        = state.force;
       for (const unsigned int i : points)
         {
@@ -417,7 +439,11 @@ namespace perideal
           f[3 * i + 1] += fy;
           f[3 * i + 2] += fz;
           if (energy)
-            state.energy[i] += 0.5 * K * theta[i] * theta[i] + 0.5 * bi * Wd;
+            {
+              // Weighted: w_i K = m_i (gamma_i + beta_i / 3) / 3 of the scaled fields.
+              const double Ki = energy_weighted ? m[i] * (gamma[i] + bi / 3) / 3 : K;
+              state.energy[i] += 0.5 * Ki * theta[i] * theta[i] + 0.5 * bi * Wd;
+            }
         }
     }
   };

@@ -28,6 +28,7 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -50,7 +51,8 @@ namespace pdtest
             const Point<3>                    &upper,
             const std::array<unsigned int, 3> &subdivisions,
             const double                       horizon,
-            const MaterialSpec                &spec)
+            const MaterialSpec                &spec,
+            const std::function<double(const Point<3> &)> &energy_weight = {})
       : comm(comm)
       , horizon(horizon)
       , triangulation(comm)
@@ -85,6 +87,14 @@ namespace pdtest
       material->set_block(0, horizon);
 
       material->initialize(state(false), points);
+      if (energy_weight)
+        {
+          std::vector<double> w(cloud.n_local(), 0.0);
+          for (const unsigned int i : points)
+            w[i] = energy_weight(cloud.position(i));
+          if (!material->weight_energy(state(false), points, w.data()))
+            throw std::runtime_error(spec.model + " cannot weight its energy");
+        }
       for (const auto &f : material->constant_fields())
         fields->get(f).update_ghost_values();
       for (const auto &f : material->stage_fields())

@@ -205,6 +205,18 @@ namespace perideal
       return false;
     }
 
+    /// Weights the energy of each point: E = sum_i w_i V_i W_i, with
+    /// @p weight indexed by local point (0 <= w_i <= 1), so that the force
+    /// and the tangent become this energy's derivatives. Virtual points of a
+    /// coupling with finite elements carry 0, a blending band values between
+    /// (doc/coupling.md). Call after initialize() and before the constant
+    /// fields are ghosted. Returns false if the material cannot be weighted.
+    virtual bool
+    weight_energy(const ModelState &, const std::vector<unsigned int> &, const double *)
+    {
+      return false;
+    }
+
   protected:
     unsigned int block   = 0;
     double       horizon = 0;
