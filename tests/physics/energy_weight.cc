@@ -53,25 +53,12 @@ namespace
     return Utilities::MPI::sum(E, h.comm);
   }
 
-  std::string
-  fmt(const double v)
-  {
-    std::ostringstream o;
-    o << std::setprecision(3) << v;
-    return o.str();
-  }
 } // namespace
 
 int
 main(int argc, char *argv[])
 {
   return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
-    const auto below = [&](const std::string &name, const double value, const double bound) {
-      const bool ok = value < bound;
-      report.line(name + " < " + fmt(bound) + (ok ? "  PASS" : " FAILED: " + fmt(value)));
-      if (!ok)
-        ++report.failures;
-    };
 
     const std::vector<std::pair<std::string, MaterialSpec>> models = {
       {"PMB", {"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}}}},
@@ -96,7 +83,7 @@ main(int argc, char *argv[])
             sums[3] += Vf.norm();
           }
         Utilities::MPI::sum(ArrayView<const double>(sums, 4), comm, ArrayView<double>(sums, 4));
-        below("  |sum V f| / sum V |f|", std::sqrt(sums[0] * sums[0] + sums[1] * sums[1] + sums[2] * sums[2]) / sums[3],
+        report.below("  |sum V f| / sum V |f|", std::sqrt(sums[0] * sums[0] + sums[1] * sums[1] + sums[2] * sums[2]) / sums[3],
               1e-13);
 
         // 2. The weighted energy, then f = -dE/du at points near three
@@ -108,7 +95,7 @@ main(int argc, char *argv[])
         for (unsigned int i = 0; i < plain.cloud.n_owned(); ++i)
           E_expected += band(plain.cloud.position(i)) * plain.cloud.volume[i] * plain.energy[i];
         E_expected = Utilities::MPI::sum(E_expected, comm);
-        below("  |E - sum w V W_unweighted| / E", std::abs(total_energy(weighted) - E_expected) / E_expected, 1e-13);
+        report.below("  |E - sum w V W_unweighted| / E", std::abs(total_energy(weighted) - E_expected) / E_expected, 1e-13);
         weighted.evaluate(true);
 
         double largest = 0;
@@ -152,7 +139,7 @@ main(int argc, char *argv[])
                 worst = std::max(worst, Utilities::MPI::max(error, comm));
               }
           }
-        below("  max |V f + dE/du| / max V |f| (central differences, 3 points x 3 components)", worst / largest,
+        report.below("  max |V f + dE/du| / max V |f| (central differences, 3 points x 3 components)", worst / largest,
               1e-6);
 
         // 3. Weight 1 everywhere = unweighted.
@@ -168,8 +155,8 @@ main(int argc, char *argv[])
           }
         df = Utilities::MPI::max(df, comm);
         f0 = Utilities::MPI::max(f0, comm);
-        below("  weight 1: max |f - f_unweighted| / max |f|", df / f0, 1e-14);
-        below("  weight 1: |E - E_unweighted| / E", std::abs(E1 - E0) / E0, 1e-14);
+        report.below("  weight 1: max |f - f_unweighted| / max |f|", df / f0, 1e-14);
+        report.below("  weight 1: |E - E_unweighted| / E", std::abs(E1 - E0) / E0, 1e-14);
       }
   });
 }

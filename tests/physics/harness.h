@@ -194,6 +194,15 @@ namespace pdtest
     std::vector<unsigned int>                         points;
   };
 
+  /// @p v with 3 significant digits.
+  inline std::string
+  short_number(const double v)
+  {
+    std::ostringstream o;
+    o << std::setprecision(3) << v;
+    return o.str();
+  }
+
   /// Prints on rank 0 and counts failures.
   class Report
   {
@@ -217,6 +226,17 @@ namespace pdtest
       o << std::setprecision(6) << name << " = " << value << "  (" << bound << ")  "
         << (ok ? "PASS" : "FAIL");
       line(o.str());
+      if (!ok)
+        ++failures;
+    }
+
+    /// "name < bound PASS" if @p value < @p bound, else with the value: for
+    /// round-off quantities, whose digits differ between rank counts.
+    void
+    below(const std::string &name, const double value, const double bound)
+    {
+      const bool ok = value < bound;
+      line(name + " < " + short_number(bound) + (ok ? "  PASS" : " FAILED: " + short_number(value)));
       if (!ok)
         ++failures;
     }
