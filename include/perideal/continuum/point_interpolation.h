@@ -1,0 +1,55 @@
+#pragma once
+// The interpolation of a finite element field at points inside its cells, and
+// its transpose: u_k = sum_a N_a(x_k) U_a (the matrix Pi), F_a += sum_k N_a(x_k)
+// f_k (Pi^T). In the FE-PD coupling (doc/coupling.md) the points are the
+// virtual points in FE cells: their displacement comes from the FE field and
+// the bond forces on them go back to the FE nodes, action = reaction.
+// Since the shape functions sum to one, Pi^T keeps the sum of the forces
+// (momentum) and Pi reproduces every field the element reproduces.
+// Stored as CSR over the points of locally owned cells: per point the
+// (p+1)^3 scalar shape values and the dim x (p+1)^3 DoF indices.
+
+#include <perideal/base/input.h>
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/la_parallel_vector.h>
+
+#include <utility>
+#include <vector>
+
+namespace perideal
+{
+  class PointInterpolation
+  {
+  public:
+    using VectorType = dealii::LinearAlgebra::distributed::Vector<double>;
+
+    /// @p points: positions inside locally owned cells of @p dof_handler,
+    /// whose element is an FESystem of dim equal scalar Lagrange elements.
+    /// The mapping is Q1 (the cells' vertices).
+    void
+    reinit(const dealii::DoFHandler<dim>                                                    &dof_handler,
+           const std::vector<std::pair<dealii::DoFHandler<dim>::active_cell_iterator, dealii::Point<dim>>> &points);
+
+    unsigned int
+    n_points() const
+    {
+      return offsets.size() - 1;
+    }
+
+    /// u[dim k + c] = sum_a N_a(x_k) U_{a,c}; @p U with its ghost values
+    /// (the DoFs of the cells the points lie in) up to date.
+    void
+    interpolate(const VectorType &U, std::vector<double> &u) const;
+
+    /// F_{a,c} += sum_k N_a(x_k) f[dim k + c] into the owned and ghost
+    /// entries of @p F; the caller compresses with VectorOperation::add.
+    void
+    add_transpose(const std::vector<double> &f, VectorType &F) const;
+
+  private:
+    std::vector<std::size_t>                     offsets{0}; // per point, into shape and dofs
+    std::vector<double>                          shape;      // N_a(x_k), a scalar node per entry
+    std::vector<dealii::types::global_dof_index> dofs;       // dim per entry: the node's x, y, z DoFs
+  };
+} // namespace perideal
