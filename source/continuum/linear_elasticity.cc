@@ -59,32 +59,35 @@ namespace perideal
                    fe_values.JxW(q);
   }
 
+  namespace
+  {
+    // int phi_i . v over the quadrature of @p fe_values (cell or face).
+    template <class FEValuesType>
+    void
+    constant_load(const FEValuesType &fe_values, const Tensor<1, dim> &v, Vector<double> &load)
+    {
+      const unsigned int n  = fe_values.dofs_per_cell;
+      const auto        &fe = fe_values.get_fe();
+      load.reinit(n);
+      for (const unsigned int q : fe_values.quadrature_point_indices())
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const unsigned int c = fe.system_to_component_index(i).first;
+            load(i) += v[c] * fe_values.shape_value_component(i, q, c) * fe_values.JxW(q);
+          }
+    }
+  } // namespace
+
   void
   LinearElasticity::cell_body_force(const FEValues<dim> &fe_values, const Tensor<1, dim> &b, Vector<double> &load)
   {
-    const unsigned int n  = fe_values.dofs_per_cell;
-    const auto        &fe = fe_values.get_fe();
-    load.reinit(n);
-    for (const unsigned int q : fe_values.quadrature_point_indices())
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          const unsigned int c = fe.system_to_component_index(i).first;
-          load(i) += b[c] * fe_values.shape_value_component(i, q, c) * fe_values.JxW(q);
-        }
+    constant_load(fe_values, b, load);
   }
 
   void
   LinearElasticity::face_traction(const FEFaceValues<dim> &fe_face_values, const Tensor<1, dim> &t, Vector<double> &load)
   {
-    const unsigned int n  = fe_face_values.dofs_per_cell;
-    const auto        &fe = fe_face_values.get_fe();
-    load.reinit(n);
-    for (const unsigned int q : fe_face_values.quadrature_point_indices())
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          const unsigned int c = fe.system_to_component_index(i).first;
-          load(i) += t[c] * fe_face_values.shape_value_component(i, q, c) * fe_face_values.JxW(q);
-        }
+    constant_load(fe_face_values, t, load);
   }
 
   double

@@ -71,14 +71,7 @@ if(DEFINED LAST_ROW_MIN)
 endif()
 
 if(DEFINED CHECK)
-  string(REPLACE "|" ";" check "${CHECK}")
-  execute_process(COMMAND ${check}
-    WORKING_DIRECTORY "${WORKDIR}"
-    OUTPUT_VARIABLE check_out ERROR_VARIABLE check_err RESULT_VARIABLE check_rc)
-  message("---- ${CHECK}\n${check_out}${check_err}")
-  if(NOT check_rc EQUAL 0)
-    message(FATAL_ERROR "the check failed (exit code ${check_rc})")
-  endif()
+  run_check()
 endif()
 
 if(DEFINED EXPECTED)

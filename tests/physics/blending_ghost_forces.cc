@@ -32,9 +32,7 @@ namespace
   Tensor<1, 3>
   strain(const Point<3> &x)
   {
-    Tensor<2, 3> H;
-    H[0][0] = 1e-3, H[1][1] = -0.3e-3, H[2][2] = -0.3e-3, H[0][1] = H[1][0] = 0.4e-3;
-    return H * Tensor<1, 3>(x);
+    return test_strain() * Tensor<1, 3>(x);
   }
 } // namespace
 
@@ -42,11 +40,7 @@ int
 main(int argc, char *argv[])
 {
   return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
-    const std::vector<std::pair<std::string, MaterialSpec>> models = {
-      {"PMB", {"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}}}},
-      {"LPS, omega = 1 - r",
-       {"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.35"}, {"Influence function", "1 - r"}}}}};
-    for (const auto &[name, spec] : models)
+    for (const auto &[name, spec, G_continuum] : coupling_models(false))
       {
         // The surface scale: the largest force on a point of the unweighted bar.
         Harness plain(comm, lower, upper, {{3 * n, 3 * n / 2, 3 * n / 2}}, horizon, spec);

@@ -60,12 +60,7 @@ main(int argc, char *argv[])
 {
   return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
 
-    const std::vector<std::pair<std::string, MaterialSpec>> models = {
-      {"PMB", {"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}}}},
-      {"LPS, omega = 1", {"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.35"}}}},
-      {"LPS, omega = 1 - r",
-       {"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.35"}, {"Influence function", "1 - r"}}}}};
-    for (const auto &[name, spec] : models)
+    for (const auto &[name, spec, G_continuum] : coupling_models(true))
       {
         report.line(name + ":");
         Harness weighted(comm, lower, upper, {{n, n, n}}, horizon, spec, band);

@@ -12,6 +12,7 @@
 #include <perideal/material/material.h>
 #include <perideal/neighborhood/bonds.h>
 
+#include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/distributed/tria.h>
@@ -193,6 +194,48 @@ namespace pdtest
     std::vector<double>                               energy;
     std::vector<unsigned int>                         points;
   };
+
+  /// The models of the coupling tests: PMB (K = 1) and LPS (K = 1, G = 0.35;
+  /// not 0.6, where 3K - 5G = 0 would hide its dilatation term) with
+  /// omega = 1 - r, and, if asked, LPS with omega = 1. G_continuum is the
+  /// shear modulus of the continuum model of the same material (PMB: nu = 1/4).
+  struct TestModel
+  {
+    std::string  name;
+    MaterialSpec spec;
+    double       G_continuum;
+  };
+  inline std::vector<TestModel>
+  coupling_models(const bool with_constant_influence)
+  {
+    std::vector<TestModel> models = {{"PMB", {"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}}}, 0.6}};
+    const MaterialSpec lps{"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.35"}}};
+    if (with_constant_influence)
+      models.push_back({"LPS, omega = 1", lps, 0.35});
+    models.push_back({"LPS, omega = 1 - r", lps, 0.35});
+    models.back().spec.keys["Influence function"] = "1 - r";
+    return models;
+  }
+
+  /// A homogeneous strain of size 1e-3: uniaxial with lateral contraction
+  /// plus a shear.
+  inline Tensor<2, 3>
+  test_strain()
+  {
+    Tensor<2, 3> H;
+    H[0][0] = 1e-3, H[1][1] = -0.3e-3, H[2][2] = -0.3e-3, H[0][1] = H[1][0] = 0.4e-3;
+    return H;
+  }
+
+  /// A deal.II vector Function<3> from a function of the position.
+  inline FunctionFromFunctionObjects<3>
+  vector_function(const std::function<Tensor<1, 3>(const Point<3> &)> &g)
+  {
+    std::vector<std::function<double(const Point<3> &)>> components;
+    for (unsigned int c = 0; c < 3; ++c)
+      components.emplace_back([g, c](const Point<3> &x) { return g(x)[c]; });
+    return FunctionFromFunctionObjects<3>(components);
+  }
 
   /// @p v with 3 significant digits.
   inline std::string

@@ -25,22 +25,6 @@
 
 using namespace pdtest;
 
-namespace
-{
-  class Linear : public Function<3>
-  {
-  public:
-    Linear()
-      : Function<3>(3)
-    {}
-    double
-    value(const Point<3> &x, const unsigned int c) const override
-    {
-      const double A[3][3] = {{0.3, -1.1, 0.7}, {0.2, 0.5, -0.4}, {-0.9, 0.1, 1.3}}, b[3] = {0.1, -0.2, 0.3};
-      return A[c][0] * x[0] + A[c][1] * x[1] + A[c][2] * x[2] + b[c];
-    }
-  };
-} // namespace
 
 int
 main(int argc, char *argv[])
@@ -54,7 +38,14 @@ main(int argc, char *argv[])
       },
       triangulation);
     const MappingQ1<3> mapping;
-    const Linear       g;
+    // A linear field g(x) = A x + b.
+    const auto g = vector_function([](const Point<3> &x) {
+      const double A[3][3] = {{0.3, -1.1, 0.7}, {0.2, 0.5, -0.4}, {-0.9, 0.1, 1.3}}, b[3] = {0.1, -0.2, 0.3};
+      Tensor<1, 3> v;
+      for (unsigned int c = 0; c < 3; ++c)
+        v[c] = A[c][0] * x[0] + A[c][1] * x[1] + A[c][2] * x[2] + b[c];
+      return v;
+    });
 
     for (const unsigned int p : {1u, 2u})
       {
