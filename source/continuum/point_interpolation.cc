@@ -9,13 +9,31 @@ namespace perideal
 
   void
   PointInterpolation::reinit(const DoFHandler<dim>                                                    &dof_handler,
-                             const std::vector<std::pair<DoFHandler<dim>::active_cell_iterator, Point<dim>>> &points)
+                             const std::vector<std::pair<DoFHandler<dim>::active_cell_iterator, Point<dim>>> &points,
+                             const AffineConstraints<double>                                         *constraints,
+                             const std::shared_ptr<const Utilities::MPI::Partitioner>                &partitioner)
   {
+    (void)dof_handler;
     offsets.assign(1, 0);
-    shape.clear();
+    weight.clear();
     dofs.clear();
     const MappingQ1<dim>                 mapping;
     std::vector<types::global_dof_index> cell_dofs;
+    const auto add = [&](const types::global_dof_index dof, const double w) {
+      if (constraints != nullptr && constraints->is_constrained(dof))
+        {
+          for (const auto &[master, c] : *constraints->get_constraint_entries(dof))
+            {
+              weight.push_back(w * c);
+              dofs.push_back(master);
+            }
+        }
+      else
+        {
+          weight.push_back(w);
+          dofs.push_back(dof);
+        }
+    };
     for (const auto &[cell, x] : points)
       {
         AssertThrow(cell->is_locally_owned(), ExcMessage("PointInterpolation: a point in a cell this rank does not own"));
@@ -28,39 +46,45 @@ namespace perideal
         cell_dofs.resize(fe.n_dofs_per_cell());
         cell->get_dof_indices(cell_dofs);
         const auto &base = fe.base_element(0);
-        // The DoF of node a, component c.
-        std::vector<types::global_dof_index> node_dofs(dim * base.n_dofs_per_cell());
-        for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+        for (unsigned int c = 0; c < dim; ++c)
           {
-            const auto [c, a] = fe.system_to_component_index(i);
-            node_dofs[dim * a + c] = cell_dofs[i];
+            for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+              {
+                const auto [component, a] = fe.system_to_component_index(i);
+                if (component == c)
+                  add(cell_dofs[i], base.shape_value(a, xi));
+              }
+            offsets.push_back(weight.size());
           }
-        for (unsigned int a = 0; a < base.n_dofs_per_cell(); ++a)
-          {
-            shape.push_back(base.shape_value(a, xi));
-            for (unsigned int c = 0; c < dim; ++c)
-              dofs.push_back(node_dofs[dim * a + c]);
-          }
-        offsets.push_back(shape.size());
       }
+    local = partitioner != nullptr;
+    if (local)
+      for (auto &d : dofs)
+        d = partitioner->global_to_local(d);
   }
 
   void
   PointInterpolation::interpolate(const VectorType &U, std::vector<double> &u) const
   {
-    u.assign(dim * n_points(), 0.0);
-    for (unsigned int k = 0; k < n_points(); ++k)
-      for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e)
-        for (unsigned int c = 0; c < dim; ++c)
-          u[dim * k + c] += shape[e] * U(dofs[dim * e + c]);
+    u.resize(offsets.size() - 1);
+    for (std::size_t k = 0; k + 1 < offsets.size(); ++k)
+      {
+        double sum = 0;
+        if (local)
+          for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e)
+            sum += weight[e] * U.local_element(dofs[e]);
+        else
+          for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e)
+            sum += weight[e] * U(dofs[e]);
+        u[k] = sum;
+      }
   }
 
   void
   PointInterpolation::add_transpose(const std::vector<double> &f, VectorType &F) const
   {
-    for (unsigned int k = 0; k < n_points(); ++k)
+    for (std::size_t k = 0; k + 1 < offsets.size(); ++k)
       for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e)
-        for (unsigned int c = 0; c < dim; ++c)
-          F(dofs[dim * e + c]) += shape[e] * f[dim * k + c];
+        (local ? F.local_element(dofs[e]) : F(dofs[e])) += weight[e] * f[k];
   }
 } // namespace perideal

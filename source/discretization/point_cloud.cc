@@ -4,8 +4,10 @@
 #include <deal.II/base/bounding_box.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/index_set.h>
+#include <deal.II/fe/mapping_q1.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 
@@ -30,10 +32,11 @@ namespace perideal
   }
 
   void
-  PointCloud::build(const DoFHandler<dim>                          &dof_handler,
-                    const std::function<int(const CellIterator &)> &block_of,
-                    const double                                    max_horizon,
-                    const MPI_Comm                                  comm)
+  PointCloud::build(const DoFHandler<dim>                                   &dof_handler,
+                    const std::function<int(const CellIterator &)>          &block_of,
+                    const double                                             max_horizon,
+                    const MPI_Comm                                           comm,
+                    const std::function<unsigned int(const CellIterator &)> &levels_of)
   {
     X.clear();
     volume.clear();
@@ -48,13 +51,44 @@ namespace perideal
           const int b = block_of(c);
           if (b < 0)
             continue;
-          const Point<dim> x = c->center();
-          for (unsigned int d = 0; d < dim; ++d)
-            X.push_back(x[d]);
-          volume.push_back(c->measure());
-          block.push_back(b);
-          key.push_back(c->id().template to_binary<dim>());
-          cell.push_back(c);
+          const unsigned int levels = levels_of ? levels_of(c) : 0;
+          if (levels == 0)
+            {
+              const Point<dim> x = c->center();
+              for (unsigned int d = 0; d < dim; ++d)
+                X.push_back(x[d]);
+              volume.push_back(c->measure());
+              block.push_back(b);
+              key.push_back(c->id().template to_binary<dim>());
+              cell.push_back(c);
+              continue;
+            }
+          // The descendants r levels down, in lexicographic order of the
+          // lattice; the child index of a hexahedron is ix + 2 iy + 4 iz.
+          const unsigned int n          = 1u << levels;
+          const double       sub_volume = c->measure() / std::pow(8.0, levels);
+          const CellId       id         = c->id();
+          const MappingQ1<dim> mapping;
+          const auto         parent     = id.get_child_indices();
+          for (unsigned int iz = 0; iz < n; ++iz)
+            for (unsigned int iy = 0; iy < n; ++iy)
+              for (unsigned int ix = 0; ix < n; ++ix)
+                {
+                  const Point<dim> xi((ix + 0.5) / n, (iy + 0.5) / n, (iz + 0.5) / n);
+                  const Point<dim> x = mapping.transform_unit_to_real_cell(c, xi);
+                  for (unsigned int d = 0; d < dim; ++d)
+                    X.push_back(x[d]);
+                  volume.push_back(sub_volume);
+                  block.push_back(b);
+                  std::vector<std::uint8_t> path(parent.begin(), parent.end());
+                  for (unsigned int l = 0; l < levels; ++l)
+                    {
+                      const unsigned int bit = levels - 1 - l;
+                      path.push_back(((ix >> bit) & 1) + 2 * ((iy >> bit) & 1) + 4 * ((iz >> bit) & 1));
+                    }
+                  key.push_back(CellId(id.get_coarse_cell_id(), path).template to_binary<dim>());
+                  cell.push_back(c);
+                }
         }
     n_owned_points = volume.size();
     {
@@ -179,8 +213,10 @@ namespace perideal
       ghost.add_index(gid[i]);
     owned.compress();
     ghost.compress();
-    scalar_partitioner =
-      std::make_shared<Utilities::MPI::Partitioner>(owned, ghost, comm);
+    // No points at all (a run of continuum blocks only): deal.II's ghost
+    // dictionary cannot partition an empty index space.
+    scalar_partitioner = n_global_points == 0 ? std::make_shared<Utilities::MPI::Partitioner>(owned, comm) :
+                                                std::make_shared<Utilities::MPI::Partitioner>(owned, ghost, comm);
 
     IndexSet owned_v(dim * n_global_points), ghost_v(dim * n_global_points);
     owned_v.add_range(dim * first_gid, dim * (first_gid + n_owned_points));
@@ -192,8 +228,8 @@ namespace perideal
     ghost_v.add_indices(ghost_entries.begin(), ghost_entries.end());
     owned_v.compress();
     ghost_v.compress();
-    vector_partitioner =
-      std::make_shared<Utilities::MPI::Partitioner>(owned_v, ghost_v, comm);
+    vector_partitioner = n_global_points == 0 ? std::make_shared<Utilities::MPI::Partitioner>(owned_v, comm) :
+                                                std::make_shared<Utilities::MPI::Partitioner>(owned_v, ghost_v, comm);
     return new_index;
   }
 } // namespace perideal

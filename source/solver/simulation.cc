@@ -3,7 +3,10 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_dgq.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/numerics/rtree.h>
 
 #include <algorithm>
 #include <chrono>
@@ -102,8 +105,27 @@ namespace perideal
         prm.declare_entry("Material ids", "0", Patterns::List(Patterns::Integer(0)), "The cells of the mesh with these material ids (Gmsh volume physical groups) form the block.");
         prm.declare_entry("Region", "", Patterns::Anything(), "If set, the cells whose centroid lies in this region form the block instead.");
         prm.declare_entry("Horizon", "0", Patterns::Double(0), "The block's horizon; 0: Discretization/Horizon.");
+        prm.declare_entry("Type", "Peridynamic", Patterns::Selection("Peridynamic|Continuum"),
+                          "Peridynamic: one PD point per cell. Continuum: FE_Q(FE degree) linear elasticity "
+                          "with the material's bulk modulus, shear modulus and density; peridynamic families "
+                          "reach into its cells through virtual points (doc/coupling.md). Continuum blocks "
+                          "take no damage model and run with the Verlet solver.");
+        prm.declare_entry("FE degree", "1", Patterns::Integer(1, 2), "Polynomial degree of a continuum block's FE_Q elements.");
         prm.leave_subsection();
       }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Coupling");
+    prm.declare_entry("Blending width", "1", Patterns::Double(0),
+                      "Width of the band inside continuum blocks, in horizons, over which the energy "
+                      "passes from peridynamic to finite element (the PD weight falls linearly from 1 at "
+                      "the PD cells to 0); 0: a step at the interface. Wider bands give smaller ghost "
+                      "forces (doc/coupling.md) and cost more virtual points.");
+    prm.declare_entry("Virtual point levels", "auto", Patterns::Selection("auto|0|1|2|3"),
+                      "Virtual points per continuum cell within reach of the PD points: the centroids of "
+                      "its descendants this many refinements down (8^levels per cell). auto: per cell, the "
+                      "levels that bring their spacing closest to that of the nearest PD point (0 for FE "
+                      "cells of the PD spacing, 1 for cells twice as large).");
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary conditions");
@@ -229,7 +251,7 @@ namespace perideal
     , pcout(std::cout, Utilities::MPI::this_mpi_process(comm_) == 0)
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , triangulation(comm_)
-    , fe(FE_DGQ<dim>(0), dim)
+    , fe(FESystem<dim>(FE_DGQ<dim>(0), dim), FESystem<dim>(FE_Q<dim>(1), dim), FESystem<dim>(FE_Q<dim>(2), dim))
     , dof_handler(triangulation)
     // The libraries are loaded and initialised by now: what the scene adds
     // to this is its own memory.
@@ -326,6 +348,8 @@ namespace perideal
         block.damage_name   = Utilities::trim(prm.get("Damage model"));
         block.region        = Utilities::trim(prm.get("Region"));
         block.horizon       = prm.get_double("Horizon");
+        block.continuum     = prm.get("Type") == "Continuum";
+        block.fe_degree     = prm.get_integer("FE degree");
         for (const int id : Utilities::string_to_int(Utilities::split_string_list(prm.get("Material ids"), ',')))
           block.material_ids.push_back(id);
         prm.leave_subsection();
@@ -337,6 +361,9 @@ namespace perideal
         AssertThrow(block.damage_name.empty() || names.damage_models.count(block.damage_name),
                     ExcMessage(path + "/Damage model: '" + block.damage_name +
                                "' is not defined in Damage models/Names"));
+        AssertThrow(!block.continuum || block.damage_name.empty(),
+                    ExcMessage(path + "/Damage model: a continuum block does not break; remove the damage "
+                                      "model or make the block Peridynamic"));
         AssertThrow(block.region.empty() || block.region == "All" || regions.count(block.region),
                     ExcMessage(path + "/Region: '" + block.region +
                                "' is not defined in Discretization/Regions/Names"));
@@ -371,6 +398,14 @@ namespace perideal
             prm.leave_subsection();
           }
       }
+    for (auto &block : blocks)
+      if (block.continuum)
+        {
+          has_continuum = true;
+          block.elasticity = std::make_unique<LinearElasticity>(block.material->bulk_modulus(),
+                                                                block.material->shear_modulus(),
+                                                                block.material->density());
+        }
     // Materials declared but not used are still parsed, so their errors show.
     prm.enter_subsection("Materials");
     for (const auto &[name, model] : names.materials)
@@ -385,6 +420,12 @@ namespace perideal
       AssertThrow(region == "All" || regions.count(region),
                   ExcMessage(path + "/Region: '" + region + "' is not defined in Discretization/Regions/Names"));
     };
+    prm.enter_subsection("Coupling");
+    blending_width       = prm.get_double("Blending width");
+    const std::string levels = prm.get("Virtual point levels");
+    virtual_point_levels     = levels == "auto" ? -1 : std::stoi(levels);
+    prm.leave_subsection();
+
     prm.enter_subsection("Boundary conditions");
     for (const auto &name : names.conditions)
       {
@@ -435,6 +476,9 @@ namespace perideal
     AssertThrow(requested_steps > 0 || final_time > initial_time,
                 ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
                            "Solver/Number of steps)"));
+    AssertThrow(!has_continuum || solver_type == "Verlet",
+                ExcMessage("Solver/Type: continuum blocks (Blocks/*/Type = Continuum) run with the Verlet "
+                           "solver only so far; QuasiStatic and Newmark do not assemble the FE part yet"));
     AssertThrow(fixed_dt > 0 || safety_factor > 0,
                 ExcMessage("Solver/Verlet/Safety factor must be positive when Fixed dt is 0"));
 
@@ -472,7 +516,11 @@ namespace perideal
                 if (cell->is_locally_owned())
                   cell->set_user_index(1);
               for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-                cloud.cell[i]->set_user_index(bonds.offsets[i + 1] - bonds.offsets[i] + 4);
+                {
+                  const unsigned int weight = bonds.offsets[i + 1] - bonds.offsets[i] + 4;
+                  // Virtual points share their FE cell.
+                  cloud.cell[i]->set_user_index(is_virtual(i) ? cloud.cell[i]->user_index() + weight : weight);
+                }
               const auto connection = triangulation.signals.weight.connect(
                 [](const Triangulation<dim>::cell_iterator &cell, const Triangulation<dim>::CellStatus) -> unsigned int {
                   return cell->user_index();
@@ -493,7 +541,6 @@ namespace perideal
   {
     {
       TimerOutput::Scope t(timer, "setup: mesh and points");
-      dof_handler.distribute_dofs(fe);
 
       auto block_of = [&](const CellIterator &cell) -> int {
         for (unsigned int b = 0; b < blocks.size(); ++b)
@@ -510,6 +557,14 @@ namespace perideal
           }
         return -1;
       };
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const int b = block_of(cell);
+            cell->set_active_fe_index(b >= 0 && blocks[b].continuum ? blocks[b].fe_degree : 0);
+          }
+      dof_handler.distribute_dofs(fe);
+
       double max_horizon = 0;
       for (const auto &b : blocks)
         max_horizon = std::max(max_horizon, b.horizon);
@@ -517,9 +572,12 @@ namespace perideal
       // not raise the peak memory.
       cloud = PointCloud();
       bonds = Bonds();
-      cloud.build(dof_handler, block_of, max_horizon, comm);
+      if (has_continuum)
+        build_coupled_cloud(block_of, max_horizon);
+      else
+        cloud.build(dof_handler, block_of, max_horizon, comm);
 
-      if (cloud.n_global() == 0)
+      if (cloud.n_global() == 0 && !has_continuum)
         {
           std::set<unsigned int> ids;
           for (const auto &cell : triangulation.active_cell_iterators())
@@ -626,7 +684,7 @@ namespace perideal
     force.reinit(cloud.vector_partitioner);
     mass_density.resize(cloud.n_owned());
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      mass_density[i] = blocks[cloud.block[i]].material->density();
+      mass_density[i] = is_virtual(i) ? 0.0 : blocks[cloud.block[i]].material->density(); // virtual: no mass of their own
 
     ModelState state{cloud, bonds, nullptr, displacement.begin(), force.begin(), nullptr, *fields};
     std::set<std::string> constant, stage;
@@ -635,6 +693,10 @@ namespace perideal
       {
         blocks[b].material->set_block(b, blocks[b].horizon);
         blocks[b].material->initialize(state, blocks[b].points);
+        if (blocks[b].continuum)
+          AssertThrow(blocks[b].material->weight_energy(state, blocks[b].points, point_alpha.data()),
+                      ExcMessage("Blocks/" + blocks[b].name + "/Type: material '" + blocks[b].material_name +
+                                 "' cannot weight its energy, so it cannot be coupled to a continuum block"));
         if (blocks[b].damage)
           blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
         fused_breaking.emplace_back();
@@ -656,14 +718,29 @@ namespace perideal
       fields->get(f); // allocate before the loop: no allocation per step
     ghosted_stage_fields.assign(stage.begin(), stage.end());
 
+    if (has_continuum)
+      {
+        TimerOutput::Scope t(timer, "setup: continuum");
+        setup_continuum();
+      }
+
     // Conditions: their points, the constraints, the body force.
     for (auto &bc : conditions)
       {
         bc.points.clear();
         for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-          if (bc.region == "All" || regions.at(bc.region)->contains(cloud.position(i), cloud.cell[i]))
+          if (!is_virtual(i) && (bc.region == "All" || regions.at(bc.region)->contains(cloud.position(i), cloud.cell[i])))
             bc.points.push_back(i);
-        if (Utilities::MPI::sum(bc.points.size(), comm) == 0)
+        bc.nodes.clear();
+        if (has_continuum)
+          for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+            {
+              const auto &node = continuum->nodes[k];
+              if (node.component == bc.component &&
+                  (bc.region == "All" || regions.at(bc.region)->contains(node.x, node.cell)))
+                bc.nodes.push_back(k);
+            }
+        if (Utilities::MPI::sum(bc.points.size() + bc.nodes.size(), comm) == 0)
           warnings.push_back("boundary condition '" + bc.name + "' acts on no point (region '" +
                              bc.region + "' is empty)");
       }
@@ -671,8 +748,18 @@ namespace perideal
       {
         compute.points.clear();
         for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-          if (compute.region == "All" || regions.at(compute.region)->contains(cloud.position(i), cloud.cell[i]))
+          if (!is_virtual(i) &&
+              (compute.region == "All" || regions.at(compute.region)->contains(cloud.position(i), cloud.cell[i])))
             compute.points.push_back(i);
+        compute.nodes.clear();
+        if (has_continuum)
+          for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+            {
+              const auto &node = continuum->nodes[k];
+              if (compute.uses_node(node.component) &&
+                  (compute.region == "All" || regions.at(compute.region)->contains(node.x, node.cell)))
+                compute.nodes.push_back(k);
+            }
       }
     constraints.clear();
     {
@@ -686,6 +773,18 @@ namespace perideal
         constraints.push_back({key.first, key.second, c});
       constraint_force.assign(constraints.size(), 0.0);
     }
+    node_constraints.clear();
+    if (has_continuum)
+      {
+        std::map<unsigned int, unsigned int> owner;
+        for (unsigned int c = 0; c < conditions.size(); ++c)
+          if (conditions[c].is_prescribed())
+            for (const unsigned int k : conditions[c].nodes)
+              owner[k] = c;
+        for (const auto &[k, c] : owner)
+          node_constraints.push_back({k, c});
+        node_constraint_force.assign(node_constraints.size(), 0.0);
+      }
     body_force.clear();
     body_force_depends_on_time = false;
     for (const auto &bc : conditions)
@@ -693,6 +792,8 @@ namespace perideal
         {
           body_force.resize(dim * cloud.n_owned(), 0.0);
           body_force_depends_on_time |= bc.value->depends_on_time();
+          if (has_continuum)
+            continuum->load.reinit(continuum->F);
         }
 
     dt_stable = stable_time_step();
@@ -710,9 +811,10 @@ namespace perideal
     ModelState state{cloud, bonds, nullptr, displacement.begin(), force.begin(), nullptr, *fields};
     double     local = std::numeric_limits<double>::max();
     for (const auto &b : blocks)
-      if (!b.points.empty())
+      if (!b.points.empty() && !b.continuum) // virtual points carry no mass: the FE nodes do
         local = std::min(local, b.material->stable_time_step(state, b.points));
-    return Utilities::MPI::min(local, comm);
+    const double pd = Utilities::MPI::min(local, comm);
+    return has_continuum ? std::min(pd, continuum->stable_time_step()) : pd;
   }
 
   // ------------------------------------------------------------------- physics
@@ -770,6 +872,16 @@ namespace perideal
     if (!body_force.empty())
       for (unsigned int k = 0; k < dim * n; ++k)
         force.local_element(k) += body_force[k];
+    if (has_continuum)
+      {
+        // The virtual points' forces go to the FE nodes (Pi^T), action = reaction.
+        TimerOutput::Scope t(timer, "continuum");
+        for (unsigned int k = 0; k < virtual_points.size(); ++k)
+          for (unsigned int d = 0; d < dim; ++d)
+            f_virtual[dim * k + d] =
+              cloud.volume[virtual_points[k]] * force.local_element(dim * virtual_points[k] + d);
+        continuum->compute_force(f_virtual);
+      }
   }
 
   void
@@ -787,7 +899,19 @@ namespace perideal
           for (const unsigned int i : bc.points)
             target.local_element(dim * i + bc.component) =
               bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
+          if (has_continuum)
+            {
+              ContinuumField::VectorType &fe_target = &target == &velocity ? continuum->V : continuum->U;
+              for (const unsigned int k : bc.nodes)
+                fe_target.local_element(continuum->nodes[k].local) =
+                  bc.value->value(continuum->nodes[k].x, initial_time, 0);
+            }
         }
+    if (has_continuum && continuum->hanging.n_constraints() > 0)
+      {
+        continuum->hanging.distribute(continuum->U);
+        continuum->hanging.distribute(continuum->V);
+      }
     evaluate_body_force(initial_time);
     check_condition_values(first_nonfinite_condition(initial_time), initial_time);
   }
@@ -798,10 +922,22 @@ namespace perideal
     if (body_force.empty())
       return;
     std::fill(body_force.begin(), body_force.end(), 0.0);
+    if (has_continuum)
+      continuum->load = 0;
     for (const auto &bc : conditions)
       if (bc.type == BoundaryCondition::Type::body_force)
-        for (const unsigned int i : bc.points)
-          body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
+        {
+          for (const unsigned int i : bc.points)
+            body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
+          // FE nodes: b(x_a) int N_a, i.e. the lumped mass over the density
+          // (exact for a constant b).
+          for (const unsigned int k : bc.nodes)
+            {
+              const auto &node = continuum->nodes[k];
+              continuum->load.local_element(node.local) +=
+                bc.value->value(node.x, time, 0) * continuum->mass.local_element(node.local) / node_density[k];
+            }
+        }
   }
 
   unsigned int
@@ -849,6 +985,26 @@ namespace perideal
         if (!std::isfinite(displacement.local_element(e)) || !std::isfinite(velocity.local_element(e)))
           bad_condition = c.condition + 1;
       }
+    for (const auto &c : node_constraints)
+      {
+        const BoundaryCondition          &bc   = conditions[c.condition];
+        const ContinuumField::Node       &node = continuum->nodes[c.node];
+        double                           &u    = continuum->U.local_element(node.local);
+        double                           &v    = continuum->V.local_element(node.local);
+        if (bc.type == BoundaryCondition::Type::prescribed_displacement)
+          {
+            const double now = bc.value->value(node.x, time, 0);
+            v = (now - bc.value->value(node.x, time - step_dt, 0)) / step_dt;
+            u = now;
+          }
+        else
+          {
+            u += step_dt * bc.value->value(node.x, time - 0.5 * step_dt, 0);
+            v = bc.value->value(node.x, time, 0);
+          }
+        if (!std::isfinite(u) || !std::isfinite(v))
+          bad_condition = c.condition + 1;
+      }
   }
 
   // -------------------------------------------------------------------- output
@@ -880,6 +1036,11 @@ namespace perideal
         }
     ke                  = Utilities::MPI::sum(ke, comm);
     se                  = Utilities::MPI::sum(se, comm);
+    if (has_continuum)
+      {
+        ke += continuum->kinetic_energy();
+        se += continuum->strain_energy();
+      }
     last_kinetic_energy = ke;
     last_strain_energy  = se;
     max_damage         = Utilities::MPI::max(max_damage, comm);
@@ -900,6 +1061,11 @@ namespace perideal
             std::function<double(unsigned int)>([this, &compute](unsigned int i) {
               return displacement.local_element(dim * i + compute.component);
             }) :
+          compute.variable == "Kinetic energy" ?
+            std::function<double(unsigned int)>([this](unsigned int i) {
+              const double *v = velocity.begin() + dim * i;
+              return 0.5 * mass_density[i] * cloud.volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            }) :
           compute.variable[0] == 'P' ?
             std::function<double(unsigned int)>([this, &compute](unsigned int i) {
               return cloud.X[dim * i + compute.component];
@@ -907,7 +1073,24 @@ namespace perideal
             std::function<double(unsigned int)>([this, &compute](unsigned int i) {
               return cloud.volume[i] * force.local_element(dim * i + compute.component);
             });
-        row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm));
+        std::function<double(unsigned int)> node_value, node_volume;
+        if (has_continuum)
+          {
+            const auto local = [this](unsigned int k) { return continuum->nodes[k].local; };
+            node_volume = [this, local](unsigned int k) { return continuum->mass.local_element(local(k)) / node_density[k]; };
+            const char v = compute.variable[0];
+            node_value =
+              compute.variable == "Kinetic energy" ?
+                std::function<double(unsigned int)>([this, local](unsigned int k) {
+                  const double vk = continuum->V.local_element(local(k));
+                  return 0.5 * continuum->mass.local_element(local(k)) * vk * vk;
+                }) :
+              v == 'D' ? std::function<double(unsigned int)>([this, local](unsigned int k) { return continuum->U.local_element(local(k)); }) :
+              v == 'P' ? std::function<double(unsigned int)>([this](unsigned int k) { return continuum->nodes[k].x[continuum->nodes[k].component]; }) :
+              v == 'F' ? std::function<double(unsigned int)>([this, local](unsigned int k) { return continuum->F.local_element(local(k)); }) :
+                         std::function<double(unsigned int)>();
+          }
+        row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm, node_value, node_volume));
       }
     if (solver_type != "Verlet")
       {
@@ -946,7 +1129,8 @@ namespace perideal
         return;
       cell_storage.push_back(std::make_unique<Vector<double>>(triangulation.n_active_cells()));
       for (unsigned int i = 0; i < n; ++i)
-        (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = value(i);
+        if (!is_virtual(i))
+          (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = value(i);
       cell_fields.emplace_back(name, cell_storage.back().get());
     };
     cell_field("Damage", [&](unsigned int i) { return point_damage(i); });
@@ -959,28 +1143,59 @@ namespace perideal
     cell_field("Weighted volume", field_or_zero("weighted_volume"));
     cell_field("Number of neighbors", [&](unsigned int i) { return double(bonds.offsets[i + 1] - bonds.offsets[i]); });
     cell_field("Block", [&](unsigned int i) { return double(cloud.block[i]); });
+    if (has_continuum && output.wants("Block"))
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_virtual(i))
+          (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = cloud.block[i];
     const double rank = Utilities::MPI::this_mpi_process(comm);
     cell_field("Rank", [&](unsigned int) { return rank; });
 
     std::vector<std::unique_ptr<VectorType>> vector_storage;
     std::vector<OutputWriter::VectorField>   vector_fields;
-    std::vector<types::global_dof_index>     dofs(fe.n_dofs_per_cell());
-    auto vector_field = [&](const std::string &name, const std::function<double(unsigned int)> &value) {
+    std::vector<types::global_dof_index>     dofs(dim);
+    // On FE cells the nodal values (@p fe_value of a node), with the ghosts
+    // the FE cells' output needs.
+    IndexSet relevant;
+    if (has_continuum)
+      DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    auto vector_field = [&](const std::string                                 &name,
+                            const std::function<double(unsigned int)>         &value,
+                            const std::function<double(unsigned int)>         &fe_value) {
       if (!output.wants(name))
         return;
-      vector_storage.push_back(std::make_unique<VectorType>(dof_handler.locally_owned_dofs(), comm));
+      vector_storage.push_back(has_continuum ?
+                                 std::make_unique<VectorType>(dof_handler.locally_owned_dofs(), relevant, comm) :
+                                 std::make_unique<VectorType>(dof_handler.locally_owned_dofs(), comm));
+      VectorType &out = *vector_storage.back();
       for (unsigned int i = 0; i < n; ++i)
+        if (!is_virtual(i))
+          {
+            cloud.cell[i]->get_dof_indices(dofs);
+            for (unsigned int d = 0; d < dim; ++d)
+              out(dofs[d]) = value(dim * i + d);
+          }
+      if (has_continuum)
         {
-          cloud.cell[i]->get_dof_indices(dofs);
-          for (unsigned int d = 0; d < dim; ++d)
-            (*vector_storage.back())(dofs[d]) = value(dim * i + d);
+          for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+            out.local_element(continuum->nodes[k].local) = fe_value(k);
+          continuum->hanging.distribute(out);
+          out.update_ghost_values();
         }
-      vector_fields.emplace_back(name, vector_storage.back().get());
+      vector_fields.emplace_back(name, &out);
     };
-    vector_field("Displacement", [&](unsigned int k) { return displacement.local_element(k); });
-    vector_field("Velocity", [&](unsigned int k) { return velocity.local_element(k); });
-    vector_field("Force density", [&](unsigned int k) { return force.local_element(k); });
-    vector_field("Acceleration", [&](unsigned int k) { return force.local_element(k) / mass_density[k / dim]; });
+    // FE nodes: the force density and acceleration of the lumped system.
+    const auto node_acceleration = [&](unsigned int k) {
+      const unsigned int l = continuum->nodes[k].local;
+      return continuum->mass.local_element(l) > 0 ? continuum->F.local_element(l) / continuum->mass.local_element(l) : 0.0;
+    };
+    vector_field("Displacement", [&](unsigned int k) { return displacement.local_element(k); },
+                 [&](unsigned int k) { return continuum->U.local_element(continuum->nodes[k].local); });
+    vector_field("Velocity", [&](unsigned int k) { return velocity.local_element(k); },
+                 [&](unsigned int k) { return continuum->V.local_element(continuum->nodes[k].local); });
+    vector_field("Force density", [&](unsigned int k) { return force.local_element(k); },
+                 [&](unsigned int k) { return node_density[k] * node_acceleration(k); });
+    vector_field("Acceleration", [&](unsigned int k) { return force.local_element(k) / mass_density[k / dim]; },
+                 node_acceleration);
 
     output.write_fields(dof_handler, cell_fields, vector_fields, step, time, comm);
   }
@@ -1031,12 +1246,26 @@ namespace perideal
         pcout << ")\n";
       }
     for (const auto &b : blocks)
-      pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
-            << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)
-            << (b.damage ? ", damage: " + b.damage->describe() : std::string(", no damage")) << "\n";
+      if (b.continuum)
+        pcout << "  block '" << b.name << "': continuum FE_Q(" << b.fe_degree << "), material '" << b.material_name
+              << "' (E " << sci(b.elasticity->young_modulus()) << ", nu " << sci(b.elasticity->poisson_ratio(), 4)
+              << "), " << Utilities::MPI::sum(b.points.size(), comm) << " virtual points\n";
+      else
+        pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
+              << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)
+              << (b.damage ? ", damage: " + b.damage->describe() : std::string(", no damage")) << "\n";
+    if (has_continuum)
+      pcout << "  finite elements:   " << continuum->n_global_dofs << " DoFs (hanging-node constraints "
+            << Utilities::MPI::sum(continuum->hanging.n_constraints(), comm) << "), blending band "
+            << sci(blending_width, 3) << " horizons, virtual point levels "
+            << (virtual_point_levels < 0 ? std::string("auto") : std::to_string(virtual_point_levels)) << "\n";
     for (const auto &bc : conditions)
-      pcout << "  condition '" << bc.name << "': " << Utilities::MPI::sum(bc.points.size(), comm)
-            << " points (region '" << bc.region << "')\n";
+      {
+        const auto nodes = Utilities::MPI::sum(bc.nodes.size(), comm); // collective on every rank
+        pcout << "  condition '" << bc.name << "': " << Utilities::MPI::sum(bc.points.size(), comm) << " points"
+              << (has_continuum ? ", " + std::to_string(nodes) + " FE DoFs" : std::string()) << " (region '"
+              << bc.region << "')\n";
+      }
     pcout << "  memory estimate:   bonds " << mib(sum_bond) << ", point fields " << mib(sum_point)
           << ", mesh and DoFs " << mib(sum_mesh) << "; total " << mib(sum_bond + sum_point + sum_mesh)
           << " (" << sci((sum_bond + sum_point + sum_mesh) / std::max(1.0, bonds_global), 3)
@@ -1117,6 +1346,7 @@ namespace perideal
   void
   Simulation::evaluate_initial_state()
   {
+    update_virtual_points();
     displacement.update_ghost_values();
     compute_forces(true);
   }
@@ -1232,8 +1462,27 @@ namespace perideal
 
     std::vector<double> inverse_density(n);
     for (unsigned int i = 0; i < n; ++i)
-      inverse_density[i] = 1 / mass_density[i];
+      inverse_density[i] = mass_density[i] > 0 ? 1 / mass_density[i] : 0.0; // virtual points follow the FE field
     std::vector<double> u_previous(entries), v_previous(entries);
+
+    // The FE nodes of continuum blocks: the same velocity-Verlet steps with
+    // the lumped mass, over the owned DoFs free of hanging-node constraints.
+    const std::vector<unsigned int> no_dofs;
+    const std::vector<unsigned int> &fe_free = has_continuum ? continuum->free : no_dofs;
+    std::vector<double>             fe_inverse_mass(fe_free.size()), U_previous(fe_free.size()),
+      V_previous(fe_free.size());
+    std::vector<unsigned char> fe_constrained;
+    if (has_continuum)
+      {
+        fe_constrained.assign(continuum->F.locally_owned_size(), 0);
+        for (const auto &c : node_constraints)
+          fe_constrained[continuum->nodes[c.node].local] = 1;
+        for (unsigned int j = 0; j < fe_free.size(); ++j)
+          fe_inverse_mass[j] = fe_constrained[fe_free[j]] ? 0.0 : 1 / continuum->mass.local_element(fe_free[j]);
+        for (unsigned int k = 0; k < node_constraints.size(); ++k)
+          node_constraint_force[k] = continuum->F.local_element(continuum->nodes[node_constraints[k].node].local);
+      }
+    const bool fe_hanging = has_continuum && Utilities::MPI::sum(continuum->hanging.n_constraints(), comm) > 0;
 
     pcout << "Time integration: " << n_steps << " steps of " << sci(dt, 6) << " from t = " << initial_time
           << std::endl;
@@ -1258,12 +1507,28 @@ namespace perideal
               v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
               u[k] += dt * v[k];
             }
+          if (has_continuum)
+            {
+              double *const U = continuum->U.begin(), *const V = continuum->V.begin();
+              const double *const F = continuum->F.begin();
+              for (unsigned int j = 0; j < fe_free.size(); ++j)
+                {
+                  const unsigned int k = fe_free[j];
+                  U_previous[j]        = U[k];
+                  V_previous[j]        = V[k];
+                  V[k] += 0.5 * dt * F[k] * fe_inverse_mass[j];
+                  U[k] += dt * V[k];
+                }
+            }
           apply_prescribed(new_time, dt);
+          if (fe_hanging)
+            continuum->hanging.distribute(continuum->U);
           if (body_force_depends_on_time)
             evaluate_body_force(new_time);
         }
         {
           TimerOutput::Scope t(timer, "ghost exchange");
+          update_virtual_points();
           displacement.update_ghost_values();
         }
         const bool output_step = output.is_output_step(step, n_steps);
@@ -1298,6 +1563,41 @@ namespace perideal
           for (unsigned int i = 0; i < n; ++i)
             ke += 0.5 * mass_density[i] * cloud.volume[i] *
                   (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+          if (has_continuum)
+            {
+              double *const U = continuum->U.begin(), *const V = continuum->V.begin();
+              const double *const F = continuum->F.begin(), *const M = continuum->mass.begin();
+              for (unsigned int j = 0; j < fe_free.size(); ++j)
+                {
+                  const unsigned int k = fe_free[j];
+                  V[k] += 0.5 * dt * F[k] * fe_inverse_mass[j];
+                }
+              // The same bookkeeping as for the prescribed point entries;
+              // F is a nodal force, M a nodal mass.
+              for (unsigned int c = 0; c < node_constraints.size(); ++c)
+                {
+                  const auto              &con  = node_constraints[c];
+                  const auto              &node = continuum->nodes[con.node];
+                  const BoundaryCondition &bc   = conditions[con.condition];
+                  const unsigned int       k    = node.local;
+                  const unsigned int       j = std::lower_bound(fe_free.begin(), fe_free.end(), k) - fe_free.begin();
+                  if (j == fe_free.size() || fe_free[j] != k)
+                    continue; // a hanging node: follows its masters
+                  if (bc.type == BoundaryCondition::Type::prescribed_velocity)
+                    V[k] = bc.value->value(node.x, new_time, 0);
+                  else
+                    V[k] = (U[k] - U_previous[j]) / dt;
+                  work += 0.5 * M[k] * (V[k] * V[k] - V_previous[j] * V_previous[j]) -
+                          0.5 * (node_constraint_force[c] + F[k]) * (U[k] - U_previous[j]);
+                  node_constraint_force[c] = F[k];
+                }
+              if (continuum->load.size() > 0)
+                for (unsigned int j = 0; j < fe_free.size(); ++j)
+                  if (!fe_constrained[fe_free[j]])
+                    work += continuum->load.local_element(fe_free[j]) * (U[fe_free[j]] - U_previous[j]);
+              for (unsigned int j = 0; j < fe_free.size(); ++j)
+                ke += 0.5 * M[fe_free[j]] * V[fe_free[j]] * V[fe_free[j]];
+            }
         }
         if (body_force_depends_on_time)
           for (const double b : body_force)
@@ -1334,6 +1634,13 @@ namespace perideal
                     if (s > vmax)
                       vmax = s, x = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2]}};
                   }
+                if (has_continuum) // FE nodes: one velocity component per DoF
+                  for (const auto &node : continuum->nodes)
+                    {
+                      const double s = std::pow(continuum->V.local_element(node.local), 2);
+                      if (s > vmax)
+                        vmax = s, x = {{node.x[0], node.x[1], node.x[2]}};
+                    }
                 const double global = Utilities::MPI::max(vmax, comm);
                 if (vmax != global)
                   x = {{0, 0, 0}};
@@ -1351,6 +1658,14 @@ namespace perideal
             // Write the last good state, then stop.
             std::copy(u_previous.begin(), u_previous.end(), u);
             std::copy(v_previous.begin(), v_previous.end(), v);
+            for (unsigned int j = 0; j < fe_free.size(); ++j)
+              {
+                continuum->U.local_element(fe_free[j]) = U_previous[j];
+                continuum->V.local_element(fe_free[j]) = V_previous[j];
+              }
+            if (fe_hanging)
+              continuum->hanging.distribute(continuum->U);
+            update_virtual_points();
             displacement.update_ghost_values();
             if (output.frequency > 0)
               {

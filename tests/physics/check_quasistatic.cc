@@ -7,6 +7,7 @@
 //                     [--reference CSV2 --column C --arrival-tol A --signal-tol G]
 //                     [--fracture SC STRETCH REACTION]
 //                     [--modulus UL UR XL XR REACTION AREA E TOL]
+//                     [--energy-fraction NAME MIN MAX]...
 //
 // - NAME=VALUE: the column NAME of the CSV row of step S: |value - VALUE| <= T X;
 // - --stdout: every solve converges in at most N Newton iterations, and for
@@ -30,6 +31,10 @@
 //   S, the gauge strain (UR - UL) / (XR - XL) (columns: the mean displacement
 //   and the mean position of the gauge's two ends), the stress REACTION / AREA
 //   and Young's modulus stress / strain, within TOL (relative) of E.
+// - --energy-fraction (an explicit wave: NAME is the kinetic energy of a
+//   region at step S): twice it, the energy of a travelling wave there (kinetic
+//   = strain), over the initial kinetic + strain energy, in [MIN, MAX]; may
+//   be given for several columns.
 // Prints the numbers with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
 #include <algorithm>
@@ -260,6 +265,12 @@ main(int argc, char *argv[])
       std::string              stretch_column, reaction_column;
       std::vector<std::string> modulus_columns;
       double                   area = 0, modulus = 0, modulus_tol = 0;
+      struct Fraction
+      {
+        std::string column;
+        double      min, max;
+      };
+      std::vector<Fraction> fractions;
       for (int a = 1; a < argc; ++a)
         {
           const std::string arg = argv[a];
@@ -306,6 +317,12 @@ main(int argc, char *argv[])
               modulus     = std::atof(next().c_str());
               modulus_tol = std::atof(next().c_str());
             }
+          else if (arg == "--energy-fraction")
+            {
+              const std::string name = next();
+              const double      lo   = std::atof(next().c_str());
+              fractions.push_back({name, lo, std::atof(next().c_str())});
+            }
           else if (arg.find('=') != std::string::npos)
             expected.push_back(arg);
           else
@@ -314,6 +331,17 @@ main(int argc, char *argv[])
       if (csv.empty())
         throw std::runtime_error("--csv is required");
 
+      for (const auto &f : fractions)
+        {
+          const auto   first = read_row(csv, 0);
+          const auto   row   = read_row(csv, step);
+          if (!row.count(f.column))
+            throw std::runtime_error("no column " + f.column);
+          const double e0       = first.at("kinetic_energy") + first.at("strain_energy");
+          const double fraction = 2 * row.at(f.column) / e0;
+          check("2 " + f.column + " / initial energy at step " + str(step), fraction,
+                fraction >= f.min && fraction <= f.max, "in [" + str(f.min) + ", " + str(f.max) + "]");
+        }
       if (!expected.empty())
         {
           const auto row = read_row(csv, step);

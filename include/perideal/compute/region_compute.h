@@ -26,14 +26,29 @@ namespace perideal
     parse_parameters(ParameterHandler &prm, const std::string &path);
 
     /// The value over points (owned, of this compute's region) of @p value(i,
-    /// component); @p volume per point. Collective.
+    /// component); @p volume per point; and, in runs with continuum blocks,
+    /// over the FE nodes of the region, @p node_value(k) with @p node_volume(k)
+    /// (the lumped volume, for Mean). Collective.
     double
     evaluate(const std::function<double(unsigned int)> &value,
              const std::vector<double>                 &volume,
-             const MPI_Comm                             comm) const;
+             const MPI_Comm                             comm,
+             const std::function<double(unsigned int)> &node_value  = {},
+             const std::function<double(unsigned int)> &node_volume = {}) const;
+
+    /// Whether an FE DoF of component @p c enters the compute (its variable
+    /// is defined at FE nodes: displacement, force, position per component,
+    /// kinetic energy over all).
+    bool
+    uses_node(const unsigned int c) const
+    {
+      return variable == "Kinetic energy" ||
+             (variable.size() > 2 && variable[variable.size() - 2] == ' ' && c == component);
+    }
 
     std::string               name, region, variable, operation;
     unsigned int              component = 0; // for vector variables
     std::vector<unsigned int> points;        // owned points in the region
+    std::vector<unsigned int> nodes;         // owned FE DoFs in the region it uses (continuum blocks)
   };
 } // namespace perideal

@@ -47,7 +47,10 @@ namespace perideal
     unsigned int                component = 0;
     std::unique_ptr<Expression> value;
 
-    /// Owned points of the region, set by the core.
+    /// Owned points of the region, set by the core (virtual points excluded).
     std::vector<unsigned int> points;
+    /// Owned FE DoFs of this component in the region (indices into
+    /// ContinuumField::nodes), set by the core in runs with continuum blocks.
+    std::vector<unsigned int> nodes;
   };
 } // namespace perideal

@@ -6,12 +6,15 @@
 // the bond forces on them go back to the FE nodes, action = reaction.
 // Since the shape functions sum to one, Pi^T keeps the sum of the forces
 // (momentum) and Pi reproduces every field the element reproduces.
-// Stored as CSR over the points of locally owned cells: per point the
-// (p+1)^3 scalar shape values and the dim x (p+1)^3 DoF indices.
+// Stored as CSR over the components of the points of locally owned cells:
+// per point and component the weights and DoF indices of the nodes; a node
+// constrained by hanging-node constraints is replaced by its masters (Pi C),
+// so that Pi^T returns the forces to DoFs that carry equations.
 
 #include <perideal/base/input.h>
 
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <utility>
@@ -26,15 +29,21 @@ namespace perideal
 
     /// @p points: positions inside locally owned cells of @p dof_handler,
     /// whose element is an FESystem of dim equal scalar Lagrange elements.
-    /// The mapping is Q1 (the cells' vertices).
+    /// The mapping is Q1 (the cells' vertices). With @p constraints
+    /// (homogeneous, e.g. hanging nodes; locally relevant lines), a
+    /// constrained DoF is replaced by its masters. With @p partitioner (that
+    /// of the vectors interpolate() and add_transpose() will get), the DoFs
+    /// are stored as local indices: no index translation per step.
     void
     reinit(const dealii::DoFHandler<dim>                                                    &dof_handler,
-           const std::vector<std::pair<dealii::DoFHandler<dim>::active_cell_iterator, dealii::Point<dim>>> &points);
+           const std::vector<std::pair<dealii::DoFHandler<dim>::active_cell_iterator, dealii::Point<dim>>> &points,
+           const dealii::AffineConstraints<double>                                         *constraints = nullptr,
+           const std::shared_ptr<const dealii::Utilities::MPI::Partitioner>                &partitioner = nullptr);
 
     unsigned int
     n_points() const
     {
-      return offsets.size() - 1;
+      return (offsets.size() - 1) / dim;
     }
 
     /// u[dim k + c] = sum_a N_a(x_k) U_{a,c}; @p U with its ghost values
@@ -48,8 +57,9 @@ namespace perideal
     add_transpose(const std::vector<double> &f, VectorType &F) const;
 
   private:
-    std::vector<std::size_t>                     offsets{0}; // per point, into shape and dofs
-    std::vector<double>                          shape;      // N_a(x_k), a scalar node per entry
-    std::vector<dealii::types::global_dof_index> dofs;       // dim per entry: the node's x, y, z DoFs
+    std::vector<std::size_t>                     offsets{0}; // per point and component, into weight and dofs
+    std::vector<double>                          weight;     // N_a(x_k) (times the constraint's weight)
+    std::vector<dealii::types::global_dof_index> dofs;       // global, or local with a partitioner
+    bool                                         local = false;
   };
 } // namespace perideal

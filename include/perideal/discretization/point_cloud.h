@@ -36,12 +36,19 @@ namespace perideal
      * block number (-1: not a peridynamic cell); then every point owned
      * elsewhere that lies within @p max_horizon of this rank's bounding box
      * is received as a ghost candidate. Collective.
+     *
+     * With @p levels_of, a cell for which it returns r > 0 gives 8^r points
+     * instead of one: the centroids of the cells r refinements below it (Q1
+     * map of the lattice (i + 1/2)/2^r of the unit cell), each with 1/8^r of
+     * the cell's measure and the CellId of that descendant as key. These are
+     * the virtual points of the FE-PD coupling (doc/coupling.md).
      */
     void
-    build(const dealii::DoFHandler<dim>            &dof_handler,
-          const std::function<int(const CellIterator &)> &block_of,
-          const double                               max_horizon,
-          const MPI_Comm                             comm);
+    build(const dealii::DoFHandler<dim>                         &dof_handler,
+          const std::function<int(const CellIterator &)>          &block_of,
+          const double                                            max_horizon,
+          const MPI_Comm                                          comm,
+          const std::function<unsigned int(const CellIterator &)> &levels_of = {});
 
     /**
      * Keep only the ghost candidates marked in @p used (indexed by local
@@ -83,7 +90,7 @@ namespace perideal
     std::vector<unsigned short>                  block;  // block number
     std::vector<PointKey>                        key;    // CellId: rank-independent identity and order
     std::vector<dealii::types::global_dof_index> gid;    // global point index
-    std::vector<CellIterator>                    cell;   // owned points only
+    std::vector<CellIterator>                    cell;   // owned points only: the cell holding the point
 
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> scalar_partitioner;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> vector_partitioner;

@@ -7,6 +7,8 @@
 #include <perideal/base/input.h>
 #include <perideal/compute/region_compute.h>
 #include <perideal/conditions/boundary_conditions.h>
+#include <perideal/continuum/continuum_field.h>
+#include <perideal/continuum/linear_elasticity.h>
 #include <perideal/damage/damage_model.h>
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/geometry/region.h>
@@ -22,6 +24,7 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/hp/fe_collection.h>
 #include <deal.II/lac/trilinos_precondition.h>
 
 #include <map>
@@ -53,9 +56,12 @@ namespace perideal
     std::string               region;
     std::string               material_name, damage_name;
     double                    horizon = 0;
+    bool                      continuum = false; // FE cells; its points are virtual points
+    unsigned int              fe_degree = 1;
+    std::unique_ptr<LinearElasticity> elasticity; // continuum blocks only
     std::unique_ptr<Material>    material;
     std::unique_ptr<DamageModel> damage;
-    std::vector<unsigned int>    points; // owned points of this block
+    std::vector<unsigned int>    points; // owned points of this block (virtual points for continuum blocks)
   };
 
   class Simulation
@@ -168,7 +174,9 @@ namespace perideal
     dealii::ConditionalOStream                pcout;
     dealii::TimerOutput                       timer;
     dealii::parallel::distributed::Triangulation<dim> triangulation;
-    dealii::FESystem<dim>                     fe;
+    // FE_DGQ(0)^dim on PD cells (active FE index 0), FE_Q(p)^dim on the cells
+    // of continuum blocks (index p).
+    dealii::hp::FECollection<dim>             fe;
     dealii::DoFHandler<dim>                   dof_handler;
 
     Scene                                       scene;
@@ -184,6 +192,40 @@ namespace perideal
     double       initial_time = 0, final_time = 0, fixed_dt = 0, safety_factor = 0;
     unsigned int requested_steps = 0;
     double       energy_growth_limit = 0;
+
+    // Coupling with continuum blocks (doc/coupling.md); nothing is allocated
+    // without a continuum block.
+    double                          blending_width       = 1; // in horizons
+    int                             virtual_point_levels = -1; // -1: auto
+    bool                            has_continuum        = false;
+    std::unique_ptr<ContinuumField> continuum;
+    std::vector<unsigned int>       virtual_points;  // owned virtual points (local index)
+    std::vector<double>             point_alpha;     // PD energy weight per owned point (continuum runs)
+    std::vector<double>             cell_fe_weight;  // per active cell: 1 - alpha of its centre
+    std::vector<unsigned char>      cell_virtual;    // per active cell: 1 + its virtual point levels, 0: none
+    std::vector<double>             u_virtual, f_virtual, node_density;
+    struct NodeConstraint
+    {
+      unsigned int node, condition; // index into continuum->nodes
+    };
+    std::vector<NodeConstraint> node_constraints;
+    std::vector<double>         node_constraint_force;
+    /// The point cloud of a run with continuum blocks: PD points and the
+    /// virtual points of the FE cells within reach of them, with alpha (PD
+    /// energy weight) per point and 1 - alpha per FE cell from the distance
+    /// to the nearest PD point (build_points_and_bonds).
+    void
+    build_coupled_cloud(const std::function<int(const CellIterator &)> &block_of, const double max_horizon);
+    /// The FE field of the continuum blocks at the virtual points (U's ghosts updated first).
+    void
+    update_virtual_points();
+    void
+    setup_continuum();
+    bool
+    is_virtual(const unsigned int i) const
+    {
+      return has_continuum && blocks[cloud.block[i]].continuum;
+    }
 
     // Points, bonds and state
     PointCloud                 cloud;

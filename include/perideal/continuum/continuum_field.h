@@ -1,0 +1,101 @@
+#pragma once
+// The finite element part of a run with continuum blocks (doc/coupling.md):
+// the FE_Q(p)^dim cells of the simulation's hp DoFHandler with their
+// displacement, velocity and force vectors, the row-sum lumped mass, the
+// stiffness matrix (each cell's weighted by its energy weight 1 - alpha of
+// the blending band), the hanging-node constraints of locally refined FE
+// regions, and Pi, the interpolation of the FE field at the virtual points
+// through which peridynamic families reach into FE cells. The explicit
+// integrator touches only the flat list of owned free DoFs.
+
+#include <perideal/base/input.h>
+#include <perideal/continuum/linear_elasticity.h>
+#include <perideal/continuum/point_interpolation.h>
+#include <perideal/discretization/point_cloud.h>
+
+#include <deal.II/base/partitioner.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/la_parallel_vector.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace perideal
+{
+  class ContinuumField
+  {
+  public:
+    using VectorType = dealii::LinearAlgebra::distributed::Vector<double>;
+
+    /// An owned DoF of an FE cell: local index, component, support point and
+    /// a cell holding it (for region tests).
+    struct Node
+    {
+      unsigned int       local;
+      unsigned int       component;
+      dealii::Point<dim> x;
+      CellIterator       cell;
+    };
+
+    /// The cells for which @p model_of returns a model are the FE cells (an
+    /// FE_Q(p)^dim element active on them); @p weight_of gives a cell's
+    /// energy weight in [0, 1]. Assembles mass and stiffness. Collective.
+    void
+    setup(const dealii::DoFHandler<dim>                                         &dof_handler,
+          const std::function<const LinearElasticity *(const CellIterator &)> &model_of,
+          const std::function<double(const CellIterator &)>                    &weight_of,
+          const MPI_Comm                                                        comm);
+
+    /// The virtual points (inside locally owned FE cells) whose displacement
+    /// interpolate() gives and whose forces compute_force() takes.
+    void
+    set_virtual_points(const dealii::DoFHandler<dim>                                   &dof_handler,
+                       const std::vector<std::pair<CellIterator, dealii::Point<dim>>> &points);
+
+    /// u (dim per virtual point) = Pi U; U's ghost values must be current.
+    void
+    interpolate(std::vector<double> &u) const
+    {
+      Pi.interpolate(U, u);
+    }
+
+    /// F = Pi^T f_virtual - K U + load on the owned DoFs; @p f_virtual holds
+    /// V f (force, not density) per virtual point and component.
+    void
+    compute_force(const std::vector<double> &f_virtual);
+
+    /// The largest stable explicit step of the FE cells (Gershgorin bound of
+    /// the unweighted stiffness and the lumped mass). Collective.
+    double
+    stable_time_step() const;
+
+    /// 1/2 U.K U and 1/2 V.M V over all ranks (after compute_force()).
+    double
+    strain_energy() const;
+    double
+    kinetic_energy() const;
+
+    bool
+    empty() const
+    {
+      return n_fe_cells == 0;
+    }
+
+    std::vector<Node>         nodes; // owned DoFs of FE cells
+    std::vector<unsigned int> free;  // local indices of owned FE DoFs not constrained by hanging nodes
+    VectorType                U, V, F, mass, load; // U ghosted; load: nodal body force, may stay empty
+    dealii::AffineConstraints<double> hanging;
+    dealii::types::global_dof_index   n_global_dofs = 0; // of FE cells, all ranks
+
+  private:
+    MPI_Comm                                                 comm = MPI_COMM_SELF;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner;
+    dealii::TrilinosWrappers::SparseMatrix                   K;
+    VectorType                                               KU, row_abs_sum;
+    PointInterpolation                                       Pi;
+    std::size_t                                              n_fe_cells = 0;
+  };
+} // namespace perideal

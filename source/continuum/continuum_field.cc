@@ -1,0 +1,158 @@
+#include <perideal/continuum/continuum_field.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+
+#include <cmath>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  void
+  ContinuumField::setup(const DoFHandler<dim>                                                &dof_handler,
+                        const std::function<const LinearElasticity *(const CellIterator &)> &model_of,
+                        const std::function<double(const CellIterator &)>                    &weight_of,
+                        const MPI_Comm                                                        comm_)
+  {
+    comm                   = comm_;
+    const IndexSet &owned  = dof_handler.locally_owned_dofs();
+    IndexSet        relevant;
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned, relevant, comm);
+    for (VectorType *v : {&U, &V, &F, &mass, &KU, &row_abs_sum})
+      v->reinit(partitioner);
+    load.reinit(0);
+
+    hanging.clear();
+    hanging.reinit(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging);
+    hanging.close();
+
+    TrilinosWrappers::SparsityPattern pattern(owned, owned, relevant, comm);
+    DoFTools::make_sparsity_pattern(dof_handler, pattern, hanging, false, Utilities::MPI::this_mpi_process(comm));
+    pattern.compress();
+    K.reinit(pattern);
+
+    // Gauss p+1 on FE_Q(p) cells; DG0 (peridynamic) cells are skipped.
+    const auto          &fe_collection = dof_handler.get_fe_collection();
+    hp::QCollection<dim> quadrature;
+    for (unsigned int k = 0; k < fe_collection.size(); ++k)
+      quadrature.push_back(QGauss<dim>(std::max(1u, fe_collection[k].degree + 1)));
+    hp::FEValues<dim> hp_values(fe_collection, quadrature, update_values | update_gradients | update_JxW_values);
+    FullMatrix<double>                   cell_matrix;
+    Vector<double>                       cell_mass, cell_abs;
+    std::vector<types::global_dof_index> dofs;
+    std::vector<bool>                    is_fe(owned.n_elements(), false);
+    const MappingQ1<dim>                 mapping;
+    std::vector<bool>                    seen(owned.n_elements(), false);
+    nodes.clear();
+    n_fe_cells = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const LinearElasticity *model = model_of(cell);
+          if (model == nullptr)
+            continue;
+          ++n_fe_cells;
+          hp_values.reinit(cell);
+          const FEValues<dim> &fe_values = hp_values.get_present_fe_values();
+          const auto          &fe        = cell->get_fe();
+          dofs.resize(fe.n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          model->cell_matrix(fe_values, cell_matrix);
+          cell_abs.reinit(dofs.size());
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            for (unsigned int j = 0; j < dofs.size(); ++j)
+              cell_abs(i) += std::abs(cell_matrix(i, j));
+          cell_matrix *= weight_of(cell);
+          model->cell_lumped_mass(fe_values, cell_mass);
+          hanging.distribute_local_to_global(cell_matrix, dofs, K);
+          hanging.distribute_local_to_global(cell_mass, dofs, mass);
+          hanging.distribute_local_to_global(cell_abs, dofs, row_abs_sum);
+          const auto &support = fe.get_unit_support_points();
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            if (owned.is_element(dofs[i]))
+              {
+                const unsigned int k = owned.index_within_set(dofs[i]);
+                is_fe[k]             = true;
+                if (!seen[k])
+                  {
+                    seen[k] = true;
+                    nodes.push_back({k, fe.system_to_component_index(i).first,
+                                     mapping.transform_unit_to_real_cell(cell, support[i]), cell});
+                  }
+              }
+        }
+    K.compress(VectorOperation::add);
+    mass.compress(VectorOperation::add);
+    row_abs_sum.compress(VectorOperation::add);
+    n_fe_cells = Utilities::MPI::sum(n_fe_cells, comm);
+
+    free.clear();
+    types::global_dof_index n_fe_dofs = 0;
+    for (unsigned int k = 0; k < owned.n_elements(); ++k)
+      if (is_fe[k])
+        {
+          ++n_fe_dofs;
+          if (!hanging.is_constrained(owned.nth_index_in_set(k)))
+            free.push_back(k);
+        }
+    n_global_dofs = Utilities::MPI::sum(n_fe_dofs, comm);
+  }
+
+  void
+  ContinuumField::set_virtual_points(const DoFHandler<dim>                                   &dof_handler,
+                                     const std::vector<std::pair<CellIterator, Point<dim>>> &points)
+  {
+    Pi.reinit(dof_handler, points, &hanging, partitioner);
+  }
+
+  void
+  ContinuumField::compute_force(const std::vector<double> &f_virtual)
+  {
+    F = 0;
+    Pi.add_transpose(f_virtual, F);
+    F.compress(VectorOperation::add);
+    K.vmult(KU, U);
+    const unsigned int n = partitioner->locally_owned_size();
+    for (unsigned int k = 0; k < n; ++k)
+      F.local_element(k) -= KU.local_element(k);
+    if (load.size() > 0)
+      for (unsigned int k = 0; k < n; ++k)
+        F.local_element(k) += load.local_element(k);
+  }
+
+  double
+  ContinuumField::stable_time_step() const
+  {
+    std::vector<double> rows, masses;
+    for (const unsigned int k : free)
+      {
+        rows.push_back(row_abs_sum.local_element(k));
+        masses.push_back(mass.local_element(k));
+      }
+    return Utilities::MPI::min(LinearElasticity::stable_time_step(rows, masses), comm);
+  }
+
+  double
+  ContinuumField::strain_energy() const
+  {
+    double e = 0;
+    for (const unsigned int k : free)
+      e += 0.5 * U.local_element(k) * KU.local_element(k);
+    return Utilities::MPI::sum(e, comm);
+  }
+
+  double
+  ContinuumField::kinetic_energy() const
+  {
+    double e = 0;
+    for (const unsigned int k : free)
+      e += 0.5 * mass.local_element(k) * V.local_element(k) * V.local_element(k);
+    return Utilities::MPI::sum(e, comm);
+  }
+} // namespace perideal
