@@ -496,6 +496,21 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "setup: mesh and points");
       scene.create_triangulation(triangulation);
+      if (scene.refinement_levels > 0)
+        {
+          AssertThrow(regions.count(scene.refinement_region) || scene.refinement_region == "All",
+                      ExcMessage("Discretization/Refinement region: '" + scene.refinement_region +
+                                 "' is not defined in Discretization/Regions/Names"));
+          for (unsigned int level = 0; level < scene.refinement_levels; ++level)
+            {
+              for (const auto &cell : dof_handler.active_cell_iterators())
+                if (cell->is_locally_owned() &&
+                    (scene.refinement_region == "All" ||
+                     regions.at(scene.refinement_region)->contains(cell->center(), cell)))
+                  cell->set_refine_flag();
+              triangulation.execute_coarsening_and_refinement();
+            }
+        }
     }
     build_points_and_bonds();
 
