@@ -7,6 +7,7 @@
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
 #include <cmath>
+#include <map>
 
 namespace perideal
 {
@@ -23,7 +24,7 @@ namespace perideal
     IndexSet        relevant;
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
     partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned, relevant, comm);
-    for (VectorType *v : {&U, &V, &F, &mass, &KU, &row_abs_sum})
+    for (VectorType *v : {&U, &V, &F, &mass, &KU})
       v->reinit(partitioner);
     load.reinit(0);
 
@@ -44,7 +45,11 @@ namespace perideal
       quadrature.push_back(QGauss<dim>(std::max(1u, fe_collection[k].degree + 1)));
     hp::FEValues<dim> hp_values(fe_collection, quadrature, update_values | update_gradients | update_JxW_values);
     FullMatrix<double>                   cell_matrix;
-    Vector<double>                       cell_mass, cell_abs;
+    Vector<double>                       cell_mass;
+    // Cells of the same shape, size, element and model have the same stable
+    // step: a box or a locally refined box has a handful.
+    std::map<std::vector<double>, double> step_of_shape;
+    element_step = std::numeric_limits<double>::max();
     std::vector<types::global_dof_index> dofs;
     std::vector<bool>                    is_fe(owned.n_elements(), false);
     const MappingQ1<dim>                 mapping;
@@ -64,15 +69,19 @@ namespace perideal
           dofs.resize(fe.n_dofs_per_cell());
           cell->get_dof_indices(dofs);
           model->cell_matrix(fe_values, cell_matrix);
-          cell_abs.reinit(dofs.size());
-          for (unsigned int i = 0; i < dofs.size(); ++i)
-            for (unsigned int j = 0; j < dofs.size(); ++j)
-              cell_abs(i) += std::abs(cell_matrix(i, j));
-          cell_matrix *= weight_of(cell);
           model->cell_lumped_mass(fe_values, cell_mass);
+          std::vector<double> shape{double(fe.degree), model->K, model->G, model->rho};
+          for (const unsigned int v : cell->vertex_indices())
+            for (unsigned int d = 0; d < dim; ++d)
+              shape.push_back(cell->vertex(v)[d] - cell->vertex(0)[d]);
+          const auto known = step_of_shape.find(shape);
+          const double step = known != step_of_shape.end() ?
+                                known->second :
+                                (step_of_shape[shape] = LinearElasticity::stable_time_step(cell_matrix, cell_mass));
+          element_step = std::min(element_step, step);
+          cell_matrix *= weight_of(cell);
           hanging.distribute_local_to_global(cell_matrix, dofs, K);
           hanging.distribute_local_to_global(cell_mass, dofs, mass);
-          hanging.distribute_local_to_global(cell_abs, dofs, row_abs_sum);
           const auto &support = fe.get_unit_support_points();
           for (unsigned int i = 0; i < dofs.size(); ++i)
             if (owned.is_element(dofs[i]))
@@ -89,7 +98,6 @@ namespace perideal
         }
     K.compress(VectorOperation::add);
     mass.compress(VectorOperation::add);
-    row_abs_sum.compress(VectorOperation::add);
     n_fe_cells = Utilities::MPI::sum(n_fe_cells, comm);
 
     free.clear();
@@ -129,13 +137,7 @@ namespace perideal
   double
   ContinuumField::stable_time_step() const
   {
-    std::vector<double> rows, masses;
-    for (const unsigned int k : free)
-      {
-        rows.push_back(row_abs_sum.local_element(k));
-        masses.push_back(mass.local_element(k));
-      }
-    return Utilities::MPI::min(LinearElasticity::stable_time_step(rows, masses), comm);
+    return Utilities::MPI::min(element_step, comm);
   }
 
   double

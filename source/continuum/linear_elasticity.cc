@@ -1,6 +1,7 @@
 #include <perideal/continuum/linear_elasticity.h>
 
 #include <deal.II/fe/fe_values_extractors.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 
 #include <algorithm>
 #include <cmath>
@@ -91,12 +92,21 @@ namespace perideal
   }
 
   double
-  LinearElasticity::stable_time_step(const std::vector<double> &row_abs_sum, const std::vector<double> &mass)
+  LinearElasticity::stable_time_step(const FullMatrix<double> &cell_matrix, const Vector<double> &cell_mass)
   {
+    // M^-1/2 K M^-1/2 is symmetric with the eigenvalues of M^-1 K.
+    const unsigned int     n = cell_mass.size();
+    LAPACKFullMatrix<double> A(n, n);
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        A(i, j) = cell_matrix(i, j) / std::sqrt(cell_mass(i) * cell_mass(j));
+    const double scale = A.frobenius_norm();
+    Vector<double>     eigenvalues;
+    FullMatrix<double> eigenvectors;
+    A.compute_eigenvalues_symmetric(-scale, 2 * scale, 0, eigenvalues, eigenvectors);
     double largest = 0;
-    for (unsigned int a = 0; a < row_abs_sum.size(); ++a)
-      if (mass[a] > 0)
-        largest = std::max(largest, row_abs_sum[a] / mass[a]);
+    for (const double l : eigenvalues)
+      largest = std::max(largest, l);
     return largest > 0 ? 2 / std::sqrt(largest) : std::numeric_limits<double>::max();
   }
 } // namespace perideal

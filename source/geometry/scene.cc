@@ -28,12 +28,14 @@ namespace perideal
                       "The horizon of every block that does not set its own. Bonds "
                       "with |xi| <= horizon*(1+1e-9) are kept, so a neighbor at exactly "
                       "the horizon (e.g. 3.0*h) is never lost to round-off.");
-    prm.declare_entry("Refinement region", "", Patterns::Anything(),
-                      "A region of Discretization/Regions: the cells whose centroid lies in it are refined "
-                      "Refinement levels times (p4est keeps neighbours within one level). The usual use: "
-                      "fine cells for the peridynamic block along a crack path and its blending band, "
-                      "coarse continuum cells elsewhere (hanging nodes are constrained).");
-    prm.declare_entry("Refinement levels", "0", Patterns::Integer(0, 6), "See Refinement region.");
+    prm.declare_entry("Refinement regions", "", Patterns::Anything(),
+                      "Regions of Discretization/Regions, comma separated: the cells whose centroid lies "
+                      "in the i-th are refined as often as the i-th entry of Refinement levels says "
+                      "(p4est keeps neighbours within one level). The usual use: fine cells for the "
+                      "peridynamic block along a crack path, cells twice as large for the continuum "
+                      "cells next to it, coarse cells elsewhere (hanging nodes are constrained).");
+    prm.declare_entry("Refinement levels", "", Patterns::List(Patterns::Integer(0, 6)),
+                      "One entry per Refinement region.");
     prm.enter_subsection("Box");
     prm.declare_entry("Lower corner", "0,0,0", Patterns::List(Patterns::Double(), 3, 3), "x,y,z of the lower corner.");
     prm.declare_entry("Upper corner", "1,1,1", Patterns::List(Patterns::Double(), 3, 3), "x,y,z of the upper corner.");
@@ -61,8 +63,11 @@ namespace perideal
   {
     type              = prm.get("Type");
     horizon           = prm.get_double("Horizon");
-    refinement_region = Utilities::trim(prm.get("Refinement region"));
-    refinement_levels = prm.get_integer("Refinement levels");
+    refinement_regions = Utilities::split_string_list(prm.get("Refinement regions"), ',');
+    for (const int l : Utilities::string_to_int(Utilities::split_string_list(prm.get("Refinement levels"), ',')))
+      refinement_levels.push_back(l);
+    AssertThrow(refinement_regions.size() == refinement_levels.size(),
+                ExcMessage("Discretization/Refinement levels: give one number per entry of Refinement regions"));
     auto point = [&](const std::string &key) {
       const auto v = Utilities::string_to_double(
         Utilities::split_string_list(prm.get(key), ','));

@@ -107,11 +107,14 @@ namespace perideal
               mi += w * r0 * r0 * V[j];
               Ai += w * r0 * V[j];
             }
-          // m_i > 0: the core has already stopped a run with a point without bonds.
+          // m_i = 0 only for a virtual point of the FE coupling left without
+          // bonds (the core stops a run with any other point without bonds):
+          // it carries no energy and no force state.
+          const double inverse   = mi > 0 ? 1 / mi : 0.0;
           m.local_element(i)     = mi;
-          beta.local_element(i)  = 15 * G / mi;
-          gamma.local_element(i) = (3 * K - 5 * G) / mi;
-          D.local_element(i)     = std::abs(3 * K - 5 * G) / mi * Ai / mi;
+          beta.local_element(i)  = 15 * G * inverse;
+          gamma.local_element(i) = (3 * K - 5 * G) * inverse;
+          D.local_element(i)     = std::abs(3 * K - 5 * G) * inverse * Ai * inverse;
         }
       state.fields.get("dilatation");
     }
@@ -377,7 +380,7 @@ namespace perideal
                 w *= 1.0 - damage[b];
               sum += w * r0 * (r - r0) * V[j];
             }
-          theta[i] = 3 * sum / m[i];
+          theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
           alpha[i] = gamma[i] * theta[i];
         }
       if (mode == BondDamage::breaking)

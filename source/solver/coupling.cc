@@ -92,6 +92,27 @@ namespace perideal
   }
 
   void
+  Simulation::drop_unweighted_bonds()
+  {
+    VectorType alpha(cloud.scalar_partitioner);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      alpha.local_element(i) = point_alpha[i];
+    alpha.update_ghost_values();
+    std::size_t kept = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        const std::size_t begin = bonds.offsets[i], end = bonds.offsets[i + 1];
+        bonds.offsets[i]        = kept;
+        for (std::size_t b = begin; b < end; ++b)
+          if (point_alpha[i] > 0 || alpha.local_element(bonds.neighbor[b]) > 0)
+            bonds.neighbor[kept++] = bonds.neighbor[b];
+      }
+    bonds.offsets[cloud.n_owned()] = kept;
+    bonds.neighbor.resize(kept);
+    bonds.neighbor.shrink_to_fit();
+  }
+
+  void
   Simulation::setup_continuum()
   {
     virtual_points.clear();

@@ -496,20 +496,30 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "setup: mesh and points");
       scene.create_triangulation(triangulation);
-      if (scene.refinement_levels > 0)
+      for (const auto &name : scene.refinement_regions)
+        AssertThrow(regions.count(name) || name == "All",
+                    ExcMessage("Discretization/Refinement regions: '" + name +
+                               "' is not defined in Discretization/Regions/Names"));
+      const unsigned int most =
+        scene.refinement_levels.empty() ? 0 :
+                                          *std::max_element(scene.refinement_levels.begin(), scene.refinement_levels.end());
+      // The scene may already refine a coarser mesh globally (a box of
+      // 2^k cells): count the levels from the scene's cells.
+      int base = std::numeric_limits<int>::max();
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          base = std::min(base, cell->level());
+      base = -Utilities::MPI::max(-base, comm);
+      for (unsigned int level = 0; level < most; ++level)
         {
-          AssertThrow(regions.count(scene.refinement_region) || scene.refinement_region == "All",
-                      ExcMessage("Discretization/Refinement region: '" + scene.refinement_region +
-                                 "' is not defined in Discretization/Regions/Names"));
-          for (unsigned int level = 0; level < scene.refinement_levels; ++level)
-            {
-              for (const auto &cell : dof_handler.active_cell_iterators())
-                if (cell->is_locally_owned() &&
-                    (scene.refinement_region == "All" ||
-                     regions.at(scene.refinement_region)->contains(cell->center(), cell)))
+          for (const auto &cell : dof_handler.active_cell_iterators())
+            if (cell->is_locally_owned())
+              for (unsigned int r = 0; r < scene.refinement_regions.size(); ++r)
+                if (scene.refinement_levels[r] > level && cell->level() == base + int(level) &&
+                    (scene.refinement_regions[r] == "All" ||
+                     regions.at(scene.refinement_regions[r])->contains(cell->center(), cell)))
                   cell->set_refine_flag();
-              triangulation.execute_coarsening_and_refinement();
-            }
+          triangulation.execute_coarsening_and_refinement();
         }
     }
     build_points_and_bonds();
@@ -619,6 +629,8 @@ namespace perideal
       for (unsigned int b = 0; b < blocks.size(); ++b)
         horizon[b] = blocks[b].horizon;
       bonds = find_families(cloud, horizon, comm);
+      if (has_continuum)
+        drop_unweighted_bonds();
     }
   }
 
@@ -630,7 +642,7 @@ namespace perideal
       unsigned int                 isolated = 0;
       std::array<double, dim + 1>  first{{0, 0, 0, 0}};
       for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-        if (bonds.offsets[i + 1] == bonds.offsets[i])
+        if (bonds.offsets[i + 1] == bonds.offsets[i] && !is_virtual(i)) // see drop_unweighted_bonds()
           {
             if (isolated++ == 0)
               first = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2], double(cloud.block[i])}};

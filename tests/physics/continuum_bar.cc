@@ -12,11 +12,12 @@
 //    on the whole boundary: quadratic, so Q2 is exact to round-off; Q1's L2
 //    error falls with the mesh at order 2 (checked within 1.9 to 2.1 between
 //    2 and 4 cells across; the errors are printed).
-// 3. Stable explicit step: the Gershgorin bound of LinearElasticity
-//    (2 / sqrt(max row sum |K| / lumped mass)) is below the true limit
-//    2 / omega_max of the lumped free bar (omega_max by power iteration on
-//    M^-1 K) and above half of it, for Q1 and Q2; both printed against
-//    h / c_p.
+// 3. Stable explicit step: the element bound of LinearElasticity
+//    (2 / sqrt(max over cells of lambda_max(M_e^-1 K_e))) is below the true
+//    limit 2 / omega_max of the lumped free bar (omega_max by power iteration
+//    on M^-1 K) and above half of it, for Q1 and Q2; both printed against
+//    h / c_p (measured: Q1 0.775 against 0.964, the row-sum Gershgorin
+//    bound 0.766; Q2 0.304 against 0.330, Gershgorin 0.177).
 // Runs on 1 and 2 ranks; the stored output compares them.
 
 #include "harness.h"
@@ -145,7 +146,7 @@ namespace
       return err / VectorTools::compute_global_error(triangulation, cellwise, VectorTools::L2_norm);
     }
 
-    /// The Gershgorin step of LinearElasticity and the true limit 2/omega_max
+    /// The element-bound step of LinearElasticity and the true limit 2/omega_max
     /// of the free, lumped bar (power iteration on M^-1 K).
     std::pair<double, double>
     stable_steps()
@@ -163,12 +164,14 @@ namespace
       FullMatrix<double>                   cell_matrix;
       Vector<double>                       cell_mass;
       std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      double                               dt_element = std::numeric_limits<double>::max();
       for (const auto &cell : dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
             fe_values.reinit(cell);
             model.cell_matrix(fe_values, cell_matrix);
             model.cell_lumped_mass(fe_values, cell_mass);
+            dt_element = std::min(dt_element, perideal::LinearElasticity::stable_time_step(cell_matrix, cell_mass));
             cell->get_dof_indices(dofs);
             none.distribute_local_to_global(cell_matrix, dofs, matrix);
             mass.add(dofs, cell_mass);
@@ -176,17 +179,7 @@ namespace
       matrix.compress(VectorOperation::add);
       mass.compress(VectorOperation::add);
 
-      std::vector<double> row_abs_sum, lumped;
-      for (const auto i : owned)
-        {
-          double s = 0;
-          for (auto e = matrix.begin(i); e != matrix.end(i); ++e)
-            s += std::abs(e->value());
-          row_abs_sum.push_back(s);
-          lumped.push_back(mass[i]);
-        }
-      const double dt_gershgorin =
-        Utilities::MPI::min(perideal::LinearElasticity::stable_time_step(row_abs_sum, lumped), comm);
+      dt_element = Utilities::MPI::min(dt_element, comm);
 
       // Power iteration on M^-1/2 K M^-1/2 (symmetric, same eigenvalues).
       TrilinosWrappers::MPI::Vector x(owned, comm), y(owned, comm);
@@ -208,7 +201,7 @@ namespace
           lambda = x * Ky;
           x      = Ky;
         }
-      return {dt_gershgorin, 2 / std::sqrt(lambda)};
+      return {dt_element, 2 / std::sqrt(lambda)};
     }
 
     MPI_Comm                                  comm;
@@ -311,10 +304,10 @@ main(int argc, char *argv[])
         Bar          bar(comm, 2, p);
         const auto   dt = bar.stable_steps();
         const double cfl = bar.h / material.p_wave_speed();
-        report.value("Q" + std::to_string(p) + " stable step / (h / c_p): Gershgorin", dt.first / cfl);
+        report.value("Q" + std::to_string(p) + " stable step / (h / c_p): element bound", dt.first / cfl);
         report.value("Q" + std::to_string(p) + " stable step / (h / c_p): 2 / omega_max", dt.second / cfl);
         const double ratio = dt.first / dt.second;
-        report.check("Q" + std::to_string(p) + " Gershgorin step / true limit", ratio, ratio <= 1 && ratio > 0.5,
+        report.check("Q" + std::to_string(p) + " element-bound step / true limit", ratio, ratio <= 1 && ratio > 0.5,
                      "in (0.5, 1]");
       }
   });

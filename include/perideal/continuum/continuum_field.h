@@ -67,8 +67,9 @@ namespace perideal
     void
     compute_force(const std::vector<double> &f_virtual);
 
-    /// The largest stable explicit step of the FE cells (Gershgorin bound of
-    /// the unweighted stiffness and the lumped mass). Collective.
+    /// The largest stable explicit step of the FE cells: the smallest element
+    /// bound 2 / sqrt(lambda_max(M_e^-1 K_e)) of the unweighted stiffness.
+    /// Collective.
     double
     stable_time_step() const;
 
@@ -94,7 +95,8 @@ namespace perideal
     MPI_Comm                                                 comm = MPI_COMM_SELF;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner;
     dealii::TrilinosWrappers::SparseMatrix                   K;
-    VectorType                                               KU, row_abs_sum;
+    VectorType                                               KU;
+    double                                                   element_step = 0;
     PointInterpolation                                       Pi;
     std::size_t                                              n_fe_cells = 0;
   };

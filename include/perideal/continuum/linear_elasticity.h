@@ -3,8 +3,10 @@
 // that do not break (doc/coupling.md). Per cell: the stiffness matrix
 //   K_ij = int lambda div(phi_i) div(phi_j) + 2 mu eps(phi_i) : eps(phi_j),
 // the row-sum lumped mass, and the load of a body force or a face traction.
-// The stable explicit step of the assembled, lumped system follows from
-// Gershgorin: omega_max^2 <= max_a sum_b |K_ab| / M_a, dt <= 2 / omega_max.
+// The stable explicit step of the assembled, lumped system follows from the
+// element eigenvalue bound: omega_max^2 <= max_e lambda_max(M_e^-1 K_e)
+// (the largest frequency of the assembly is at most the largest of its
+// elements), dt <= 2 / omega_max.
 // K, G and rho are those of the PD material of the same name, so that a block
 // can switch between PD and FE without changing the material.
 
@@ -49,11 +51,11 @@ namespace perideal
                   dealii::Vector<double>        &load);
 
     /// The stable step of an explicit central-difference (velocity-Verlet)
-    /// step from the assembled row sums of |K| and the lumped masses of the
-    /// same DoFs: 2 / sqrt(max_a row_abs_sum_a / mass_a). Local: take the
-    /// minimum over ranks.
+    /// step for one element: 2 / sqrt(lambda_max(M^-1 K)) of its stiffness
+    /// matrix and lumped mass (LAPACK, symmetric). The minimum over the
+    /// elements bounds the step of the assembled lumped system from below.
     static double
-    stable_time_step(const std::vector<double> &row_abs_sum, const std::vector<double> &mass);
+    stable_time_step(const dealii::FullMatrix<double> &cell_matrix, const dealii::Vector<double> &cell_mass);
 
     double
     young_modulus() const

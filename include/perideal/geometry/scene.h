@@ -31,8 +31,8 @@ namespace perideal
 
     std::string type;
     double      horizon = 0;
-    std::string  refinement_region; // applied by the Simulation, which knows the regions
-    unsigned int refinement_levels = 0;
+    std::vector<std::string>  refinement_regions; // applied by the Simulation, which knows the regions
+    std::vector<unsigned int> refinement_levels;
 
     // Box
     dealii::Point<dim>          lower, upper;

@@ -216,6 +216,11 @@ namespace perideal
     /// to the nearest PD point (build_points_and_bonds).
     void
     build_coupled_cloud(const std::function<int(const CellIterator &)> &block_of, const double max_horizon);
+    /// Removes the bonds between two points of energy weight 0 (virtual
+    /// points beyond the band): they carry no energy, and such a point needs
+    /// only its bonds to weighted points to receive their reactions.
+    void
+    drop_unweighted_bonds();
     /// The FE field of the continuum blocks at the virtual points (U's ghosts updated first).
     void
     update_virtual_points();
