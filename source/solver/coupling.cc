@@ -120,31 +120,12 @@ namespace perideal
       if (is_virtual(i))
         virtual_points.push_back(i);
 
-    const auto block_of_cell = [&](const CellIterator &cell) -> const Block * {
-      // The continuum block of an FE cell: its virtual points know it, else
-      // the first continuum block of the cell's FE degree that claims it.
-      for (const auto &b : blocks)
-        if (b.continuum && b.fe_degree == cell->active_fe_index())
-          {
-            if (!b.region.empty())
-              {
-                if (b.region == "All" || regions.at(b.region)->contains(cell->center(), cell))
-                  return &b;
-              }
-            else if (std::find(b.material_ids.begin(), b.material_ids.end(), cell->material_id()) !=
-                     b.material_ids.end())
-              return &b;
-          }
-      return nullptr;
-    };
     continuum = std::make_unique<ContinuumField>();
     continuum->setup(
       dof_handler,
       [&](const CellIterator &cell) -> const LinearElasticity * {
-        if (cell->active_fe_index() == 0)
-          return nullptr;
-        const Block *b = block_of_cell(cell);
-        return b != nullptr ? b->elasticity.get() : nullptr;
+        // FE cells: the continuum block that claims them.
+        return cell->active_fe_index() == 0 ? nullptr : blocks[block_of_cell(cell)].elasticity.get();
       },
       [&](const CellIterator &cell) { return cell_fe_weight[cell->active_cell_index()]; },
       comm);
@@ -156,7 +137,7 @@ namespace perideal
     f_virtual.assign(dim * virtual_points.size(), 0.0);
     node_density.resize(continuum->nodes.size());
     for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
-      node_density[k] = block_of_cell(continuum->nodes[k].cell)->elasticity->rho;
+      node_density[k] = blocks[block_of_cell(continuum->nodes[k].cell)].elasticity->rho;
   }
 
   void

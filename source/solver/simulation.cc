@@ -489,6 +489,24 @@ namespace perideal
 
   // -------------------------------------------------------------------- set-up
 
+  int
+  Simulation::block_of_cell(const CellIterator &cell) const
+  {
+    for (unsigned int b = 0; b < blocks.size(); ++b)
+      {
+        const Block &block = blocks[b];
+        if (!block.region.empty())
+          {
+            if (block.region == "All" || regions.at(block.region)->contains(cell->center(), cell))
+              return b;
+          }
+        else if (std::find(block.material_ids.begin(), block.material_ids.end(), cell->material_id()) !=
+                 block.material_ids.end())
+          return b;
+      }
+    return -1;
+  }
+
   void
   Simulation::setup()
   {
@@ -567,21 +585,7 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "setup: mesh and points");
 
-      auto block_of = [&](const CellIterator &cell) -> int {
-        for (unsigned int b = 0; b < blocks.size(); ++b)
-          {
-            const Block &block = blocks[b];
-            if (!block.region.empty())
-              {
-                if (block.region == "All" || regions.at(block.region)->contains(cell->center(), cell))
-                  return b;
-              }
-            else if (std::find(block.material_ids.begin(), block.material_ids.end(),
-                               cell->material_id()) != block.material_ids.end())
-              return b;
-          }
-        return -1;
-      };
+      const auto block_of = [this](const CellIterator &cell) { return block_of_cell(cell); };
       for (const auto &cell : dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -991,46 +995,34 @@ namespace perideal
   void
   Simulation::apply_prescribed(const double time, const double step_dt)
   {
-    for (unsigned int k = 0; k < constraints.size(); ++k)
+    // One prescribed entry (u, v) at x for the step that ends at time.
+    const auto prescribe = [&](const unsigned int condition, const Point<dim> &x, const std::uint64_t h, double &u,
+                               double &v) {
+      const BoundaryCondition &bc = conditions[condition];
+      if (bc.type == BoundaryCondition::Type::prescribed_displacement)
+        {
+          const double now = bc.value->value(x, time, h);
+          v                = (now - bc.value->value(x, time - step_dt, h)) / step_dt;
+          u                = now;
+        }
+      else
+        {
+          u += step_dt * bc.value->value(x, time - 0.5 * step_dt, h);
+          v = bc.value->value(x, time, h);
+        }
+      if (!std::isfinite(u) || !std::isfinite(v))
+        bad_condition = condition + 1;
+    };
+    for (const Constraint &c : constraints)
       {
-        const Constraint        &c  = constraints[k];
-        const BoundaryCondition &bc = conditions[c.condition];
-        const Point<dim>         x  = cloud.position(c.point);
-        const std::uint64_t      h  = cloud.hash(c.point);
-        const unsigned int       e  = dim * c.point + c.component;
-        if (bc.type == BoundaryCondition::Type::prescribed_displacement)
-          {
-            const double now = bc.value->value(x, time, h);
-            velocity.local_element(e) = (now - bc.value->value(x, time - step_dt, h)) / step_dt;
-            displacement.local_element(e) = now;
-          }
-        else
-          {
-            displacement.local_element(e) += step_dt * bc.value->value(x, time - 0.5 * step_dt, h);
-            velocity.local_element(e) = bc.value->value(x, time, h);
-          }
-        if (!std::isfinite(displacement.local_element(e)) || !std::isfinite(velocity.local_element(e)))
-          bad_condition = c.condition + 1;
+        const unsigned int e = dim * c.point + c.component;
+        prescribe(c.condition, cloud.position(c.point), cloud.hash(c.point), displacement.local_element(e),
+                  velocity.local_element(e));
       }
     for (const auto &c : node_constraints)
       {
-        const BoundaryCondition          &bc   = conditions[c.condition];
-        const ContinuumField::Node       &node = continuum->nodes[c.node];
-        double                           &u    = continuum->U.local_element(node.local);
-        double                           &v    = continuum->V.local_element(node.local);
-        if (bc.type == BoundaryCondition::Type::prescribed_displacement)
-          {
-            const double now = bc.value->value(node.x, time, 0);
-            v = (now - bc.value->value(node.x, time - step_dt, 0)) / step_dt;
-            u = now;
-          }
-        else
-          {
-            u += step_dt * bc.value->value(node.x, time - 0.5 * step_dt, 0);
-            v = bc.value->value(node.x, time, 0);
-          }
-        if (!std::isfinite(u) || !std::isfinite(v))
-          bad_condition = c.condition + 1;
+        const ContinuumField::Node &node = continuum->nodes[c.node];
+        prescribe(c.condition, node.x, 0, continuum->U.local_element(node.local), continuum->V.local_element(node.local));
       }
   }
 
@@ -1499,6 +1491,7 @@ namespace perideal
     std::vector<double>             fe_inverse_mass(fe_free.size()), U_previous(fe_free.size()),
       V_previous(fe_free.size());
     std::vector<unsigned char> fe_constrained;
+    std::vector<int>           constrained_free; // per node constraint: index into fe_free, -1: none
     if (has_continuum)
       {
         fe_constrained.assign(continuum->F.locally_owned_size(), 0);
@@ -1507,7 +1500,13 @@ namespace perideal
         for (unsigned int j = 0; j < fe_free.size(); ++j)
           fe_inverse_mass[j] = fe_constrained[fe_free[j]] ? 0.0 : 1 / continuum->mass.local_element(fe_free[j]);
         for (unsigned int k = 0; k < node_constraints.size(); ++k)
-          node_constraint_force[k] = continuum->F.local_element(continuum->nodes[node_constraints[k].node].local);
+          {
+            const unsigned int local = continuum->nodes[node_constraints[k].node].local;
+            node_constraint_force[k] = continuum->F.local_element(local);
+            // Its place among the free DoFs; a hanging node follows its masters.
+            const auto j = std::lower_bound(fe_free.begin(), fe_free.end(), local);
+            constrained_free.push_back(j != fe_free.end() && *j == local ? j - fe_free.begin() : -1);
+          }
       }
     const bool fe_hanging = has_continuum && Utilities::MPI::sum(continuum->hanging.n_constraints(), comm) > 0;
 
@@ -1607,9 +1606,9 @@ namespace perideal
                   const auto              &node = continuum->nodes[con.node];
                   const BoundaryCondition &bc   = conditions[con.condition];
                   const unsigned int       k    = node.local;
-                  const unsigned int       j = std::lower_bound(fe_free.begin(), fe_free.end(), k) - fe_free.begin();
-                  if (j == fe_free.size() || fe_free[j] != k)
-                    continue; // a hanging node: follows its masters
+                  if (constrained_free[c] < 0)
+                    continue;
+                  const unsigned int j = constrained_free[c];
                   if (bc.type == BoundaryCondition::Type::prescribed_velocity)
                     V[k] = bc.value->value(node.x, new_time, 0);
                   else

@@ -83,6 +83,10 @@ namespace perideal
     /// Mesh, points, bonds (rebalanced by bonds on several ranks), models.
     void
     setup();
+    /// The block that claims @p cell (the first whose region or material ids
+    /// hold it), -1 if none.
+    int
+    block_of_cell(const CellIterator &cell) const;
     /// DoFs, point cloud and families of the current partition.
     void
     build_points_and_bonds();
