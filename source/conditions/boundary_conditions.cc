@@ -11,13 +11,19 @@ namespace perideal
   {
     prm.declare_entry("Type", "Initial velocity",
                       Patterns::Selection("Initial displacement|Initial velocity|"
-                                          "Prescribed displacement|Prescribed velocity|Body force"),
+                                          "Prescribed displacement|Prescribed velocity|Body force|Traction"),
                       "Initial displacement/velocity: set at the initial time. "
                       "Prescribed displacement/velocity: imposed on the component at "
                       "every step (Dirichlet). Body force: force per unit volume added "
-                      "to the component.");
+                      "to the component. Traction: force per unit area on the boundary "
+                      "faces of continuum blocks whose centre lies in Region (or, with "
+                      "Boundary id, that carry this id), evaluated at the face centre; "
+                      "peridynamic blocks take loads as body forces.");
     prm.declare_entry("Region", "All", Patterns::Anything(),
                       "The name of a region of Discretization/Regions, or All.");
+    prm.declare_entry("Boundary id", "-1", Patterns::Integer(-1),
+                      "Traction only: the boundary id of the faces (Gmsh surface physical "
+                      "groups); -1: the faces in Region.");
     prm.declare_entry("Component", "x", Patterns::Selection("x|y|z"),
                       "The component the value applies to (Peridigm's 'Coordinate').");
     prm.declare_entry("Value", "0", Patterns::Anything(),
@@ -37,7 +43,9 @@ namespace perideal
                           t == "Initial velocity"        ? Type::initial_velocity :
                           t == "Prescribed displacement" ? Type::prescribed_displacement :
                           t == "Prescribed velocity"     ? Type::prescribed_velocity :
+                          t == "Traction"                ? Type::traction :
                                                            Type::body_force;
+    boundary_id = prm.get_integer("Boundary id");
     region    = prm.get("Region");
     component = prm.get("Component")[0] - 'x';
     // The component enters the seed: x, y and z conditions with the same seed

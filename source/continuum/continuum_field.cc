@@ -134,6 +134,36 @@ namespace perideal
         F.local_element(k) += load.local_element(k);
   }
 
+  void
+  ContinuumField::add_face_load(const std::vector<std::pair<CellIterator, unsigned int>> &faces,
+                                const unsigned int                                       component,
+                                const std::function<double(const Point<dim> &)>         &value)
+  {
+    if (faces.empty())
+      return;
+    if (!face_values)
+      {
+        const auto          &fe_collection = faces.front().first->get_dof_handler().get_fe_collection();
+        hp::QCollection<dim - 1> quadrature;
+        for (unsigned int k = 0; k < fe_collection.size(); ++k)
+          quadrature.push_back(QGauss<dim - 1>(std::max(1u, fe_collection[k].degree + 1)));
+        face_values = std::make_unique<hp::FEFaceValues<dim>>(fe_collection, quadrature,
+                                                              update_values | update_JxW_values);
+      }
+    Vector<double>                       cell_load;
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &[cell, face] : faces)
+      {
+        face_values->reinit(cell, face);
+        Tensor<1, dim> t;
+        t[component] = value(cell->face(face)->center());
+        LinearElasticity::face_traction(face_values->get_present_fe_values(), t, cell_load);
+        dofs.resize(cell->get_fe().n_dofs_per_cell());
+        cell->get_dof_indices(dofs);
+        hanging.distribute_local_to_global(cell_load, dofs, load);
+      }
+  }
+
   double
   ContinuumField::stable_time_step() const
   {

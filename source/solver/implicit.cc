@@ -573,8 +573,8 @@ namespace perideal
         pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
         apply_prescribed(time, dt_load);
         velocity = 0;
-        if (body_force_depends_on_time)
-          evaluate_body_force(time);
+        if (loads_depend_on_time)
+          evaluate_loads(time);
         check_condition_values(first_nonfinite_condition(time), time);
         solve_step(step);
         total_newton += last_newton.newton_iterations;
@@ -669,8 +669,8 @@ namespace perideal
             u[k]           = u_predicted[k];
           }
         apply_prescribed(time, dt);
-        if (body_force_depends_on_time)
-          evaluate_body_force(time);
+        if (loads_depend_on_time)
+          evaluate_loads(time);
         check_condition_values(first_nonfinite_condition(time), time);
         newmark_inertia = 1 / (beta * dt * dt);
         solve_step(step);

@@ -6,6 +6,7 @@
 
 #include <perideal/base/expression.h>
 #include <perideal/base/input.h>
+#include <perideal/discretization/point_cloud.h>
 
 #include <memory>
 #include <string>
@@ -22,7 +23,8 @@ namespace perideal
       initial_velocity,
       prescribed_displacement,
       prescribed_velocity,
-      body_force
+      body_force,
+      traction
     };
 
     static void
@@ -35,6 +37,12 @@ namespace perideal
     {
       return type == Type::initial_displacement || type == Type::initial_velocity;
     }
+    /// A load added to the force: body force or traction.
+    bool
+    is_load() const
+    {
+      return type == Type::body_force || type == Type::traction;
+    }
     bool
     is_prescribed() const
     {
@@ -45,6 +53,7 @@ namespace perideal
     Type                        type = Type::initial_velocity;
     std::string                 region;
     unsigned int                component = 0;
+    int                         boundary_id = -1; // traction: faces with this id; -1: by region
     std::unique_ptr<Expression> value;
 
     /// Owned points of the region, set by the core (virtual points excluded).
@@ -52,5 +61,7 @@ namespace perideal
     /// Owned FE DoFs of this component in the region (indices into
     /// ContinuumField::nodes), set by the core in runs with continuum blocks.
     std::vector<unsigned int> nodes;
+    /// Traction: owned boundary faces of FE cells (cell, face number).
+    std::vector<std::pair<CellIterator, unsigned int>> faces;
   };
 } // namespace perideal

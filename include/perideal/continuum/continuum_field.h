@@ -15,6 +15,7 @@
 
 #include <deal.II/base/partitioner.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/hp/fe_values.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -67,6 +68,14 @@ namespace perideal
     void
     compute_force(const std::vector<double> &f_virtual);
 
+    /// load += the nodal forces of a traction, one component, force per area,
+    /// @p value at each face's centre, on @p faces (boundary faces of owned
+    /// FE cells). Compress load with VectorOperation::add after the last.
+    void
+    add_face_load(const std::vector<std::pair<CellIterator, unsigned int>> &faces,
+                  const unsigned int                                       component,
+                  const std::function<double(const dealii::Point<dim> &)> &value);
+
     /// The largest stable explicit step of the FE cells: the smallest element
     /// bound 2 / sqrt(lambda_max(M_e^-1 K_e)) of the unweighted stiffness.
     /// Collective.
@@ -98,6 +107,7 @@ namespace perideal
     VectorType                                               KU;
     double                                                   element_step = 0;
     PointInterpolation                                       Pi;
+    std::unique_ptr<dealii::hp::FEFaceValues<dim>>           face_values; // made at the first traction
     std::size_t                                              n_fe_cells = 0;
   };
 } // namespace perideal

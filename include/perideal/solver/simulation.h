@@ -103,9 +103,10 @@ namespace perideal
     /// of its (owned) points at @p time; 0 if none.
     unsigned int
     first_nonfinite_condition(const double time) const;
-    /// body_force from the body-force conditions at @p time (if any).
+    /// body_force (PD points) and the FE load (body forces at nodes,
+    /// tractions on faces) of the load conditions at @p time (if any).
     void
-    evaluate_body_force(const double time);
+    evaluate_loads(const double time);
     void
     compute_forces(const bool with_energy);
     double
@@ -246,7 +247,7 @@ namespace perideal
     std::vector<double>        energy_density;
     std::vector<double>        mass_density; // per owned point
     std::vector<double>        body_force;   // per owned point and component; empty if none
-    bool                       body_force_depends_on_time = false;
+    bool                       loads_depend_on_time = false;
     std::vector<std::string>   ghosted_stage_fields;
 
     // Prescribed components: (point, component, condition)
