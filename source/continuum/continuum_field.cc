@@ -7,11 +7,41 @@
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 
 namespace perideal
 {
   using namespace dealii;
+
+  std::vector<DoFNode>
+  owned_nodes(const DoFHandler<dim> &dof_handler, const std::function<bool(const CellIterator &)> &selected)
+  {
+    const IndexSet                      &owned = dof_handler.locally_owned_dofs();
+    const MappingQ1<dim>                 mapping;
+    std::vector<bool>                    seen(owned.n_elements(), false);
+    std::vector<types::global_dof_index> dofs;
+    std::vector<DoFNode>                 nodes;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && (!selected || selected(cell)))
+        {
+          const auto &fe = cell->get_fe();
+          dofs.resize(fe.n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            if (owned.is_element(dofs[i]))
+              {
+                const unsigned int k = owned.index_within_set(dofs[i]);
+                if (!seen[k])
+                  {
+                    seen[k] = true;
+                    nodes.push_back({k, fe.system_to_component_index(i).first,
+                                     mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i)), cell});
+                  }
+              }
+        }
+    return nodes;
+  }
 
   void
   ContinuumField::setup(const DoFHandler<dim>                                                &dof_handler,
@@ -51,10 +81,6 @@ namespace perideal
     std::map<std::vector<double>, double> step_of_shape;
     element_step = std::numeric_limits<double>::max();
     std::vector<types::global_dof_index> dofs;
-    std::vector<bool>                    is_fe(owned.n_elements(), false);
-    const MappingQ1<dim>                 mapping;
-    std::vector<bool>                    seen(owned.n_elements(), false);
-    nodes.clear();
     n_fe_cells = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -82,33 +108,18 @@ namespace perideal
           cell_matrix *= weight_of(cell);
           hanging.distribute_local_to_global(cell_matrix, dofs, K);
           hanging.distribute_local_to_global(cell_mass, dofs, mass);
-          const auto &support = fe.get_unit_support_points();
-          for (unsigned int i = 0; i < dofs.size(); ++i)
-            if (owned.is_element(dofs[i]))
-              {
-                const unsigned int k = owned.index_within_set(dofs[i]);
-                is_fe[k]             = true;
-                if (!seen[k])
-                  {
-                    seen[k] = true;
-                    nodes.push_back({k, fe.system_to_component_index(i).first,
-                                     mapping.transform_unit_to_real_cell(cell, support[i]), cell});
-                  }
-              }
         }
     K.compress(VectorOperation::add);
     mass.compress(VectorOperation::add);
     n_fe_cells = Utilities::MPI::sum(n_fe_cells, comm);
 
+    nodes = owned_nodes(dof_handler, [&](const CellIterator &cell) { return model_of(cell) != nullptr; });
     free.clear();
-    types::global_dof_index n_fe_dofs = 0;
-    for (unsigned int k = 0; k < owned.n_elements(); ++k)
-      if (is_fe[k])
-        {
-          ++n_fe_dofs;
-          if (!hanging.is_constrained(owned.nth_index_in_set(k)))
-            free.push_back(k);
-        }
+    for (const Node &node : nodes)
+      if (!hanging.is_constrained(owned.nth_index_in_set(node.local)))
+        free.push_back(node.local);
+    std::sort(free.begin(), free.end());
+    const types::global_dof_index n_fe_dofs = nodes.size();
     n_global_dofs = Utilities::MPI::sum(n_fe_dofs, comm);
   }
 
@@ -180,11 +191,17 @@ namespace perideal
   }
 
   double
-  ContinuumField::kinetic_energy() const
+  ContinuumField::local_kinetic_energy() const
   {
     double e = 0;
     for (const unsigned int k : free)
       e += 0.5 * mass.local_element(k) * V.local_element(k) * V.local_element(k);
-    return Utilities::MPI::sum(e, comm);
+    return e;
+  }
+
+  double
+  ContinuumField::kinetic_energy() const
+  {
+    return Utilities::MPI::sum(local_kinetic_energy(), comm);
   }
 } // namespace perideal

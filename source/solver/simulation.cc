@@ -497,7 +497,7 @@ namespace perideal
         const Block &block = blocks[b];
         if (!block.region.empty())
           {
-            if (block.region == "All" || regions.at(block.region)->contains(cell->center(), cell))
+            if (in_region(block.region, cell->center(), cell))
               return b;
           }
         else if (std::find(block.material_ids.begin(), block.material_ids.end(), cell->material_id()) !=
@@ -534,8 +534,7 @@ namespace perideal
             if (cell->is_locally_owned())
               for (unsigned int r = 0; r < scene.refinement_regions.size(); ++r)
                 if (scene.refinement_levels[r] > level && cell->level() == base + int(level) &&
-                    (scene.refinement_regions[r] == "All" ||
-                     regions.at(scene.refinement_regions[r])->contains(cell->center(), cell)))
+                    in_region(scene.refinement_regions[r], cell->center(), cell))
                   cell->set_refine_flag();
           triangulation.execute_coarsening_and_refinement();
         }
@@ -772,8 +771,7 @@ namespace perideal
                 for (const unsigned int f : cell->face_indices())
                   if (cell->face(f)->at_boundary() &&
                       (bc.boundary_id >= 0 ? cell->face(f)->boundary_id() == types::boundary_id(bc.boundary_id) :
-                                             bc.region == "All" ||
-                                               regions.at(bc.region)->contains(cell->face(f)->center(), cell)))
+                                             in_region(bc.region, cell->face(f)->center(), cell)))
                     bc.faces.emplace_back(cell, f);
             if (Utilities::MPI::sum(bc.faces.size(), comm) == 0)
               warnings.push_back("traction '" + bc.name + "' acts on no boundary face of a continuum block");
@@ -781,15 +779,14 @@ namespace perideal
           }
         bc.points.clear();
         for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-          if (!is_virtual(i) && (bc.region == "All" || regions.at(bc.region)->contains(cloud.position(i), cloud.cell[i])))
+          if (!is_virtual(i) && in_region(bc.region, cloud.position(i), cloud.cell[i]))
             bc.points.push_back(i);
         bc.nodes.clear();
         if (has_continuum)
           for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
             {
               const auto &node = continuum->nodes[k];
-              if (node.component == bc.component &&
-                  (bc.region == "All" || regions.at(bc.region)->contains(node.x, node.cell)))
+              if (node.component == bc.component && in_region(bc.region, node.x, node.cell))
                 bc.nodes.push_back(k);
             }
         if (Utilities::MPI::sum(bc.points.size() + bc.nodes.size(), comm) == 0)
@@ -800,16 +797,14 @@ namespace perideal
       {
         compute.points.clear();
         for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-          if (!is_virtual(i) &&
-              (compute.region == "All" || regions.at(compute.region)->contains(cloud.position(i), cloud.cell[i])))
+          if (!is_virtual(i) && in_region(compute.region, cloud.position(i), cloud.cell[i]))
             compute.points.push_back(i);
         compute.nodes.clear();
         if (has_continuum)
           for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
             {
               const auto &node = continuum->nodes[k];
-              if (compute.uses_node(node.component) &&
-                  (compute.region == "All" || regions.at(compute.region)->contains(node.x, node.cell)))
+              if (compute.uses_node(node.component) && in_region(compute.region, node.x, node.cell))
                 compute.nodes.push_back(k);
             }
       }
@@ -1671,8 +1666,7 @@ namespace perideal
                   if (!fe_constrained[fe_free[j]])
                     work += 0.5 * (continuum->load.local_element(fe_free[j]) + load_previous[j]) *
                             (U[fe_free[j]] - U_previous[j]);
-              for (unsigned int j = 0; j < fe_free.size(); ++j)
-                ke += 0.5 * M[fe_free[j]] * V[fe_free[j]] * V[fe_free[j]];
+              ke += continuum->local_kinetic_energy();
             }
         }
         if (loads_depend_on_time)

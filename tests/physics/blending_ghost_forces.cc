@@ -24,10 +24,7 @@ using namespace pdtest;
 
 namespace
 {
-  const Point<3>     lower(0, 0, 0), upper(3, 1.5, 1.5);
-  const unsigned int n       = 8;
-  const double       h       = 1.0 / n;
-  const double       horizon = 3.015 * h;
+  using namespace coupling_bar;
 
   Tensor<1, 3>
   strain(const Point<3> &x)

@@ -31,6 +31,7 @@
 
 #include "harness.h"
 
+#include <perideal/continuum/continuum_field.h>
 #include <perideal/continuum/linear_elasticity.h>
 #include <perideal/continuum/point_interpolation.h>
 
@@ -38,18 +39,14 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/fe/mapping_q1.h>
 #include <deal.II/numerics/vector_tools.h>
 
 using namespace pdtest;
 
 namespace
 {
-  const Point<3>     lower(0, 0, 0), upper(3, 1.5, 1.5);
-  const unsigned int n       = 8;
-  const double       h       = 1.0 / n;
-  const double       horizon = 3.015 * h;
-  const double       x0      = 1.5;
+  using namespace coupling_bar;
+  const double x0 = 1.5;
 
 } // namespace
 
@@ -148,22 +145,14 @@ main(int argc, char *argv[])
             residual(U, r_pd, R);
 
             // Component and support point of each owned FE DoF.
-            const IndexSet                      &owned = dofs.locally_owned_dofs();
-            std::vector<unsigned int>            component(owned.n_elements());
-            std::vector<Point<3>>                where(owned.n_elements());
-            const std::vector<Point<3>>         &unit = fe.get_unit_support_points();
-            for (const auto &cell : dofs.active_cell_iterators())
-              if (cell->is_locally_owned())
-                {
-                  cell->get_dof_indices(cell_dofs);
-                  for (unsigned int i = 0; i < cell_dofs.size(); ++i)
-                    if (owned.is_element(cell_dofs[i]))
-                      {
-                        component[owned.index_within_set(cell_dofs[i])] = fe.system_to_component_index(i).first;
-                        where[owned.index_within_set(cell_dofs[i])] =
-                          MappingQ1<3>().transform_unit_to_real_cell(cell, unit[i]);
-                      }
-                }
+            const IndexSet           &owned = dofs.locally_owned_dofs();
+            std::vector<unsigned int> component(owned.n_elements());
+            std::vector<Point<3>>     where(owned.n_elements());
+            for (const auto &node : perideal::owned_nodes(dofs))
+              {
+                component[node.local] = node.component;
+                where[node.local]     = node.x;
+              }
             const auto inside = [](const Point<3> &x, const double margin) {
               return x[1] > margin && x[1] < upper[1] - margin && x[2] > margin && x[2] < upper[2] - margin;
             };

@@ -205,6 +205,16 @@ namespace pdtest
     MaterialSpec spec;
     double       G_continuum;
   };
+  /// The bar of the coupling tests (blending_ghost_forces, coupled_patch):
+  /// [0,3] x [0,1.5] x [0,1.5], h = 1/8, horizon 3.015 h.
+  namespace coupling_bar
+  {
+    inline const Point<3>   lower(0, 0, 0), upper(3, 1.5, 1.5);
+    constexpr unsigned int  n       = 8;
+    constexpr double        h       = 1.0 / n;
+    constexpr double        horizon = 3.015 * h;
+  } // namespace coupling_bar
+
   inline std::vector<TestModel>
   coupling_models(const bool with_constant_influence)
   {

@@ -12,6 +12,7 @@
 
 #include "harness.h"
 
+#include <perideal/continuum/continuum_field.h>
 #include <perideal/continuum/point_interpolation.h>
 
 #include <deal.II/distributed/tria.h>
@@ -93,17 +94,10 @@ main(int argc, char *argv[])
         F.compress(VectorOperation::add);
 
         // The component of each owned DoF.
-        std::vector<unsigned int>            component(dof_handler.n_locally_owned_dofs());
-        std::vector<types::global_dof_index> cell_dofs(fe.n_dofs_per_cell());
-        const IndexSet                      &owned = dof_handler.locally_owned_dofs();
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              cell->get_dof_indices(cell_dofs);
-              for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
-                if (owned.is_element(cell_dofs[i]))
-                  component[owned.index_within_set(cell_dofs[i])] = fe.system_to_component_index(i).first;
-            }
+        const IndexSet           &owned = dof_handler.locally_owned_dofs();
+        std::vector<unsigned int> component(owned.n_elements());
+        for (const auto &node : perideal::owned_nodes(dof_handler))
+          component[node.local] = node.component;
         double sums[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}; // sum f (3), sum |f|, sum F (3), f . Pi U, F . U
         for (unsigned int k = 0; k < points.size(); ++k)
           for (unsigned int c = 0; c < 3; ++c)

@@ -26,20 +26,29 @@
 
 namespace perideal
 {
+  /// An owned DoF of a cell: index within the locally owned DoFs, vector
+  /// component, support point (Q1 map) and a locally owned cell holding it.
+  struct DoFNode
+  {
+    unsigned int       local;
+    unsigned int       component;
+    dealii::Point<dim> x;
+    CellIterator       cell;
+  };
+
+  /// The locally owned DoFs of the locally owned cells @p selected accepts
+  /// (all if empty), each once, in the order the cells first reach them.
+  std::vector<DoFNode>
+  owned_nodes(const dealii::DoFHandler<dim>                      &dof_handler,
+              const std::function<bool(const CellIterator &)>  &selected = {});
+
   class ContinuumField
   {
   public:
     using VectorType = dealii::LinearAlgebra::distributed::Vector<double>;
 
-    /// An owned DoF of an FE cell: local index, component, support point and
-    /// a cell holding it (for region tests).
-    struct Node
-    {
-      unsigned int       local;
-      unsigned int       component;
-      dealii::Point<dim> x;
-      CellIterator       cell;
-    };
+    /// An owned DoF of an FE cell (for conditions and computes).
+    using Node = DoFNode;
 
     /// The cells for which @p model_of returns a model are the FE cells (an
     /// FE_Q(p)^dim element active on them); @p weight_of gives a cell's
@@ -87,6 +96,9 @@ namespace perideal
     strain_energy() const;
     double
     kinetic_energy() const;
+    /// 1/2 V.M V of this rank's DoFs (no communication).
+    double
+    local_kinetic_energy() const;
 
     bool
     empty() const

@@ -83,6 +83,12 @@ namespace perideal
     /// Mesh, points, bonds (rebalanced by bonds on several ranks), models.
     void
     setup();
+    /// Whether @p x (in @p cell) lies in the region named @p region ("All": everywhere).
+    bool
+    in_region(const std::string &region, const dealii::Point<dim> &x, const CellIterator &cell) const
+    {
+      return region == "All" || regions.at(region)->contains(x, cell);
+    }
     /// The block that claims @p cell (the first whose region or material ids
     /// hold it), -1 if none.
     int
