@@ -26,14 +26,22 @@ namespace perideal
                       "and bond stretch are defined at PD points only.");
     prm.declare_entry("Operation", "Sum", Patterns::Selection("Sum|Mean|Minimum|Maximum"),
                       "Mean is volume weighted: sum V q / sum V.");
+    prm.declare_entry("Reference", "", Patterns::Anything(),
+                      "An expression in x, y, z (the reference position of the point or FE node) and t. "
+                      "If set, the compute takes |q - reference| instead of q: the error against an "
+                      "analytic solution, e.g. Variable = Displacement x, Reference = 1e-3*x, Operation "
+                      "= Maximum for the largest error of a patch test.");
   }
 
   void
-  RegionCompute::parse_parameters(ParameterHandler &prm, const std::string &)
+  RegionCompute::parse_parameters(ParameterHandler &prm, const std::string &path)
   {
     region    = prm.get("Region");
     variable  = prm.get("Variable");
     operation = prm.get("Operation");
+    reference.reset();
+    if (!prm.get("Reference").empty())
+      reference = std::make_shared<Expression>(prm.get("Reference"), path + "/Reference");
     component = 0;
     if (variable.size() > 2 && variable[variable.size() - 2] == ' ')
       component = variable.back() - 'x';

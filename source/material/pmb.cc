@@ -5,6 +5,13 @@
 // Poisson's ratio is 1/4 by construction, so G = 3K/5.
 // Across blocks with different micromoduli the bond uses (c_i + c_j)/2, so
 // action equals reaction.
+// Surface correction (optional): a point whose family is cut by a free
+// surface (or whose lattice sum misses the sphere's integral) is too soft.
+// The energy method of Le & Bobaru (Comput. Mech. 61, 2018) with an
+// isotropic expansion eps as the test field: the point's energy density is
+// 1/4 c eps^2 sum_j |xi_ij| V_j, the continuum's 9/2 K eps^2 = 1/4 c eps^2
+// pi delta^4, so c_i is scaled by g_i = pi delta^4 / sum_j |xi_ij| V_j and the
+// bond takes (c_i + c_j)/2 as across blocks.
 
 #include <perideal/material/material.h>
 
@@ -22,6 +29,13 @@ namespace perideal
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
       prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
+      prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
+                        "Energy: scale each point's micromodulus by g = pi delta^4 / sum_j |xi| V_j, the "
+                        "continuum's over its family's strain energy density under an isotropic expansion "
+                        "(Le & Bobaru 2018's energy method): restores the stiffness a free surface cuts "
+                        "from a family (a plate a few points thick is otherwise 15-20% too soft) and the "
+                        "lattice sum's quadrature error. Bonds use (c_i + c_j)/2. The set-up cost is one "
+                        "pass over the bonds.");
     }
 
     void
@@ -29,6 +43,7 @@ namespace perideal
     {
       rho = prm.get_double("Density");
       K   = prm.get_double("Bulk modulus");
+      surface_correction = prm.get("Surface correction") == "Energy";
       require_positive(rho, path + "/Density");
       require_positive(K, path + "/Bulk modulus");
     }
@@ -61,6 +76,24 @@ namespace perideal
       VectorType &c = state.fields.get("pmb_micromodulus");
       for (const unsigned int i : points)
         c.local_element(i) = micromodulus();
+      if (!surface_correction)
+        return;
+      const double *X = state.cloud.X.data();
+      const double *V = state.cloud.volume.data();
+      for (const unsigned int i : points)
+        {
+          double sum = 0;
+          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+            {
+              const unsigned int j  = state.bonds.neighbor[b];
+              const double       dx = X[3 * j] - X[3 * i], dy = X[3 * j + 1] - X[3 * i + 1],
+                           dz = X[3 * j + 2] - X[3 * i + 2];
+              sum += std::sqrt(dx * dx + dy * dy + dz * dz) * V[j];
+            }
+          if (sum > 0)
+            c.local_element(i) *= M_PI * std::pow(horizon, 4) / sum;
+        }
+      uniform_known = false;
     }
 
     std::vector<std::string>
@@ -179,6 +212,7 @@ namespace perideal
 
   private:
     double rho = 0, K = 0;
+    bool   surface_correction = false;
 
     bool
     uniform_neighborhood(const ModelState                &state,

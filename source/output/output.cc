@@ -41,6 +41,10 @@ namespace perideal
     prm.declare_entry("Variables", "Displacement, Damage", Patterns::MultipleSelection(selection),
                       "Fields written as cell data (constant per point); only these are "
                       "computed. Empty: no field files, only the globals CSV.");
+    prm.declare_entry("Globals frequency", "0", Patterns::Integer(0),
+                      "Write a globals row every this many steps (plus the first and the last); 0: "
+                      "with the fields (Frequency). A fine history (reaction force, crack tip probes) "
+                      "without field files at every row.");
     prm.declare_entry("Write globals", "true", Patterns::Bool(),
                       "Write <base name>.globals.csv with step, time, kinetic_energy, "
                       "strain_energy, broken_bonds, max_damage and more, a row per "
@@ -53,6 +57,7 @@ namespace perideal
     directory = prm.get("Directory");
     base_name = prm.get("Base name");
     frequency = prm.get_integer("Frequency");
+    globals_frequency = prm.get_integer("Globals frequency");
     globals   = prm.get_bool("Write globals");
     variables.clear();
     for (const auto &v : Utilities::split_string_list(prm.get("Variables"), ','))

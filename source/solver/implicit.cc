@@ -12,6 +12,7 @@
 // solve the damage models run, and the step is solved again while bonds break
 // (at most "Maximum damage solves" times).
 
+#include <perideal/solver/coupled_tangent.h>
 #include <perideal/solver/implicit.h>
 #include <perideal/solver/simulation.h>
 
@@ -163,46 +164,82 @@ namespace perideal
         constrained_dofs[k] = flags.local_element(k) != 0;
     }
 
-    // Rigid-body modes about the centroid: the near null space of the AMG and
-    // the motions some condition must remove.
+    // The unknowns (with continuum blocks: the free DoFs of real points and
+    // FE nodes, coupled_tangent.h; without: every owned PD DoF, prescribed
+    // ones with identity rows) and the prescribed entries, by position and
+    // component: the rigid-body modes about the centroid are the AMG's near
+    // null space and the motions some condition must remove.
+    std::vector<std::pair<Point<dim>, unsigned int>> unknowns, prescribed;
+    std::vector<unsigned int>                        pd_free, fe_free;
+    if (has_continuum)
+      {
+        for (unsigned int k = 0; k < dim * n_owned; ++k)
+          if (!constrained_dofs[k] && !is_virtual(k / dim))
+            pd_free.push_back(k);
+        std::vector<std::uint8_t> fe_prescribed(continuum->F.locally_owned_size(), 0);
+        for (const auto &c : node_constraints)
+          {
+            const auto &node = continuum->nodes[c.node];
+            fe_prescribed[node.local] = 1;
+            prescribed.emplace_back(node.x, node.component);
+          }
+        for (const unsigned int l : continuum->free)
+          if (!fe_prescribed[l])
+            fe_free.push_back(l);
+        std::vector<unsigned int> node_of(continuum->F.locally_owned_size(), 0);
+        for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+          node_of[continuum->nodes[k].local] = k;
+        for (const unsigned int k : pd_free)
+          unknowns.emplace_back(cloud.position(k / dim), k % dim);
+        for (const unsigned int l : fe_free)
+          unknowns.emplace_back(continuum->nodes[node_of[l]].x, continuum->nodes[node_of[l]].component);
+      }
+    else
+      for (unsigned int k = 0; k < dim * n_owned; ++k)
+        unknowns.emplace_back(cloud.position(k / dim), k % dim);
+    for (const auto &c : constraints)
+      prescribed.emplace_back(cloud.position(c.point), c.component);
+
     std::array<double, dim> centre{{0, 0, 0}};
     {
       std::array<double, dim + 1> s{{0, 0, 0, 0}};
-      for (unsigned int i = 0; i < n_owned; ++i)
+      for (const auto &[x, c] : unknowns)
         {
           for (unsigned int d = 0; d < dim; ++d)
-            s[d] += cloud.X[dim * i + d] * cloud.volume[i];
-          s[dim] += cloud.volume[i];
+            s[d] += x[d];
+          s[dim] += 1;
         }
       Utilities::MPI::sum(ArrayView<const double>(s.data(), s.size()), comm, ArrayView<double>(s.data(), s.size()));
       for (unsigned int d = 0; d < dim; ++d)
-        centre[d] = s[d] / s[dim];
+        centre[d] = s[dim] > 0 ? s[d] / s[dim] : 0.0;
     }
-    const unsigned int n = dim * n_owned;
+    // Mode m at an entry of component c at x (relative to the centre).
+    const auto mode_value = [](const unsigned int m, const unsigned int c, const double x, const double y,
+                               const double z) {
+      if (m < dim)
+        return m == c ? 1.0 : 0.0;
+      // Rotations about x, y and z.
+      const double r[3][3] = {{0, -z, y}, {z, 0, -x}, {-y, x, 0}};
+      return r[m - dim][c];
+    };
+    const unsigned int n = unknowns.size();
     rigid_modes.assign(6 * n, 0.0);
     double extent = 0;
-    for (unsigned int i = 0; i < n_owned; ++i)
+    for (unsigned int k = 0; k < n; ++k)
       {
-        const double x = cloud.X[dim * i] - centre[0], y = cloud.X[dim * i + 1] - centre[1],
-                     z = cloud.X[dim * i + 2] - centre[2];
+        const auto  &[p, c] = unknowns[k];
+        const double x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
         extent = std::max({extent, std::abs(x), std::abs(y), std::abs(z)});
-        for (unsigned int d = 0; d < dim; ++d)
-          rigid_modes[d * n + dim * i + d] = 1;
-        // Rotations about x, y and z.
-        rigid_modes[3 * n + dim * i + 1] = -z;
-        rigid_modes[3 * n + dim * i + 2] = y;
-        rigid_modes[4 * n + dim * i + 0] = z;
-        rigid_modes[4 * n + dim * i + 2] = -x;
-        rigid_modes[5 * n + dim * i + 0] = -y;
-        rigid_modes[5 * n + dim * i + 1] = x;
+        for (unsigned int mode = 0; mode < 6; ++mode)
+          rigid_modes[mode * n + k] = mode_value(mode, c, x, y, z);
       }
     extent = Utilities::MPI::max(extent, comm);
     // A mode is removed if a prescribed entry moves with it.
     std::array<double, 6> restrained{{0, 0, 0, 0, 0, 0}};
-    for (const auto &c : constraints)
+    for (const auto &[p, c] : prescribed)
       for (unsigned int mode = 0; mode < 6; ++mode)
-        restrained[mode] = std::max(restrained[mode],
-                                    std::abs(rigid_modes[mode * n + dim * c.point + c.component]));
+        restrained[mode] = std::max(restrained[mode], std::abs(mode_value(mode, c, p[0] - centre[0], p[1] - centre[1],
+                                                                          p[2] - centre[2])));
     Utilities::MPI::max(ArrayView<const double>(restrained.data(), 6), comm, ArrayView<double>(restrained.data(), 6));
     const char *mode_name[6] = {"translation in x", "translation in y", "translation in z",
                                 "rotation about x",  "rotation about y",  "rotation about z"};
@@ -222,6 +259,13 @@ namespace perideal
         tangent->reinit_diagonal(cloud, hops, comm);
       else
         tangent->reinit(cloud, bonds, hops, comm);
+      if (has_continuum)
+        {
+          coupled_tangent = std::make_unique<CoupledTangent>();
+          coupled_tangent->reinit(pd_free, fe_free, virtual_points, continuum->interpolation(), tangent->owned,
+                                  continuum->vector_partitioner(), continuum->stiffness(), comm);
+          symmetry_reported = false;
+        }
     }
     use_finite_differences = implicit.tangent == "Finite differences";
     fd_step                = std::numeric_limits<double>::max();
@@ -236,25 +280,65 @@ namespace perideal
   Simulation::residual(std::vector<double> &R, double &force_norm)
   {
     TimerOutput::Scope t(timer, "implicit: residual");
+    if (has_continuum)
+      {
+        if (continuum->hanging.n_constraints() > 0)
+          continuum->hanging.distribute(continuum->U);
+        update_virtual_points();
+      }
     displacement.update_ghost_values();
     compute_forces(false);
-    const unsigned int n = dim * cloud.n_owned();
-    double             free = 0, all = 0;
-    for (unsigned int k = 0; k < n; ++k)
+    double free = 0, all = 0;
+    if (has_continuum)
       {
-        double r = cloud.volume[k / dim] * force.local_element(k);
-        if (newmark_inertia > 0)
-          r -= mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
-               (displacement.local_element(k) - u_predicted[k]);
-        R[k] = constrained_dofs[k] ? 0 : r;
-        free += R[k] * R[k];
-        const double F = cloud.volume[k / dim] * force.local_element(k);
-        all += F * F;
+        // The free DoFs (coupled_tangent.h): V f at real points, the FE nodal
+        // force Pi^T (V f) - K U + load; the force scale over every real point
+        // and FE node, supports included.
+        const std::vector<unsigned int> &pd = coupled_tangent->pd_dofs, &fe = coupled_tangent->fe_dofs;
+        for (unsigned int j = 0; j < pd.size(); ++j)
+          R[j] = cloud.volume[pd[j] / dim] * force.local_element(pd[j]);
+        for (unsigned int j = 0; j < fe.size(); ++j)
+          R[pd.size() + j] = continuum->F.local_element(fe[j]);
+        for (const double r : R)
+          free += r * r;
+        for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
+          if (!is_virtual(k / dim))
+            all += std::pow(cloud.volume[k / dim] * force.local_element(k), 2);
+        for (const unsigned int l : continuum->free)
+          all += std::pow(continuum->F.local_element(l), 2);
       }
+    else
+      for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
+        {
+          double r = cloud.volume[k / dim] * force.local_element(k);
+          if (newmark_inertia > 0)
+            r -= mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
+                 (displacement.local_element(k) - u_predicted[k]);
+          R[k] = constrained_dofs[k] ? 0 : r;
+          free += R[k] * R[k];
+          const double F = cloud.volume[k / dim] * force.local_element(k);
+          all += F * F;
+        }
     double sums[2] = {free, all};
     Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
     force_norm = std::sqrt(sums[1]);
     return std::sqrt(sums[0]);
+  }
+
+  unsigned int
+  Simulation::n_unknowns() const
+  {
+    return has_continuum ? coupled_tangent->pd_dofs.size() + coupled_tangent->fe_dofs.size() : dim * cloud.n_owned();
+  }
+
+  double &
+  Simulation::unknown(const unsigned int j)
+  {
+    if (!has_continuum)
+      return displacement.local_element(j);
+    const std::vector<unsigned int> &pd = coupled_tangent->pd_dofs;
+    return j < pd.size() ? displacement.local_element(pd[j]) :
+                           continuum->U.local_element(coupled_tangent->fe_dofs[j - pd.size()]);
   }
 
   void
@@ -308,6 +392,18 @@ namespace perideal
         tangent->add_to_diagonal(mass);
       }
     tangent->finish();
+    if (has_continuum)
+      {
+        TimerOutput::Scope t(timer, "implicit: coupled tangent");
+        coupled_tangent->assemble(tangent->matrix);
+        rebuild_amg = true; // a new matrix object
+        if (!symmetry_reported)
+          {
+            pcout << "  coupled tangent: symmetry defect |x.Ky - y.Kx| / (|x| |y| |K|) = "
+                  << sci(coupled_tangent->symmetry_defect(), 3) << std::endl;
+            symmetry_reported = true;
+          }
+      }
   }
 
   unsigned int
@@ -316,7 +412,8 @@ namespace perideal
     if (implicit.jacobian == "Matrix free")
       return solve_matrix_free(R, du);
     TimerOutput::Scope            t(timer, "implicit: linear solve");
-    const IndexSet               &owned = tangent->owned;
+    const IndexSet               &owned  = has_continuum ? coupled_tangent->owned : tangent->owned;
+    const TrilinosWrappers::SparseMatrix &matrix = has_continuum ? coupled_tangent->matrix : tangent->matrix;
     TrilinosWrappers::MPI::Vector rhs(owned, comm), x(owned, comm);
     const types::global_dof_index first = owned.n_elements() ? *owned.begin() : 0;
     for (unsigned int k = 0; k < R.size(); ++k)
@@ -342,17 +439,17 @@ namespace perideal
                                                                           1e-4;
         Teuchos::ParameterList              list;
         std::unique_ptr<Epetra_MultiVector> unused;
-        data.set_parameters(list, unused, tangent->matrix);
+        data.set_parameters(list, unused, matrix);
         list.set("null space: type", "pre-computed");
         list.set("null space: dimension", 6);
         list.set("null space: vectors", rigid_modes.data());
         amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-        amg->initialize(tangent->matrix, list);
+        amg->initialize(matrix, list);
       }
     else
       {
         auto jacobi = std::make_unique<TrilinosWrappers::PreconditionJacobi>();
-        jacobi->initialize(tangent->matrix);
+        jacobi->initialize(matrix);
         jacobi_preconditioner = std::move(jacobi);
       }
     const TrilinosWrappers::PreconditionBase &preconditioner =
@@ -360,9 +457,9 @@ namespace perideal
     try
       {
         if (implicit.linear_solver == "CG")
-          SolverCG<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, preconditioner);
+          SolverCG<TrilinosWrappers::MPI::Vector>(control).solve(matrix, x, rhs, preconditioner);
         else
-          SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(tangent->matrix, x, rhs, preconditioner);
+          SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(matrix, x, rhs, preconditioner);
       }
     catch (const SolverControl::NoConvergence &e)
       {
@@ -473,6 +570,13 @@ namespace perideal
     const double bytes = Utilities::MPI::sum(double(tangent->memory_consumption()), comm);
     if (implicit.jacobian == "Matrix free")
       return "matrix free (" + implicit.linear_solver + ", block Jacobi from the analytic diagonal; " + sci(bytes / 1048576.0, 4) + " MiB)";
+    if (has_continuum)
+      return std::string(use_finite_differences ? "by finite differences" : "analytic") + ", PD part " +
+             std::to_string(tangent->matrix.n_nonzero_elements()) + " nonzeros, coupled T^T A T + K_FE on " +
+             std::to_string(coupled_tangent->owned.size()) + " free DoFs (" +
+             sci(Utilities::MPI::sum(double(coupled_tangent->memory_consumption()), comm) / 1048576.0 +
+                   bytes / 1048576.0, 4) +
+             " MiB), " + implicit.linear_solver + " with " + implicit.preconditioner;
     return std::string(use_finite_differences ? "by finite differences" : "analytic") + ", " +
            std::to_string(tangent->matrix.n_nonzero_elements()) + " nonzeros (" + sci(bytes / 1048576.0, 4) +
            " MiB), " + implicit.linear_solver + " with " + implicit.preconditioner;
@@ -481,7 +585,7 @@ namespace perideal
   Simulation::NewtonResult
   Simulation::solve_newton(const unsigned int step)
   {
-    const unsigned int  n = dim * cloud.n_owned();
+    const unsigned int  n = n_unknowns();
     std::vector<double> R(n), du(n), u0(n);
     NewtonResult        result;
     double              forces = 0;
@@ -504,13 +608,13 @@ namespace perideal
         result.linear_iterations += linear;
 
         for (unsigned int k = 0; k < n; ++k)
-          u0[k] = displacement.local_element(k);
+          u0[k] = unknown(k);
         double       alpha = 1, r_new = 0;
         unsigned int cuts  = 0;
         for (;; ++cuts)
           {
             for (unsigned int k = 0; k < n; ++k)
-              displacement.local_element(k) = u0[k] + alpha * du[k];
+              unknown(k) = u0[k] + alpha * du[k];
             r_new = residual(R, forces);
             if (!implicit.line_search || (std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r) || cuts == 10)
               break;
@@ -529,7 +633,7 @@ namespace perideal
                                    " (" + sci(r / scale) + " of the forces): the tangent does not match the "
                                    "force (try Solver/Implicit/Tangent = Finite differences)"));
             for (unsigned int k = 0; k < n; ++k)
-              displacement.local_element(k) = u0[k];
+              unknown(k) = u0[k];
             r = residual(R, forces);
             pcout << "  Newton " << it << ": |R| = " << sci(r, 4) << " is at round-off (" << sci(r / scale, 3)
                   << " of the forces): accepted" << std::endl;
@@ -583,7 +687,7 @@ namespace perideal
         displacement.update_ghost_values();
         compute_forces(true);
         if (output.is_output_step(step, n_steps))
-          write_output(step, time);
+          write_output(step, time, output.is_globals_step(step, n_steps), output.is_field_step(step, n_steps));
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
@@ -694,7 +798,7 @@ namespace perideal
             work += 0.5 * (body_before[k] + body_force[k]) * cloud.volume[k / dim] * (u[k] - u_before[k]);
         external_work += Utilities::MPI::sum(work, comm);
         if (output.is_output_step(step, n_steps))
-          write_output(step, time);
+          write_output(step, time, output.is_globals_step(step, n_steps), output.is_field_step(step, n_steps));
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear

@@ -69,6 +69,15 @@ namespace perideal
         prm.leave_subsection();
       }
     prm.leave_subsection();
+    prm.enter_subsection("Bond filters");
+    declare_names_entry(prm, "bond filters: planes no bond crosses (pre-cracks, notches)");
+    for (const auto &name : names.bond_filters)
+      {
+        prm.enter_subsection(name);
+        BondFilter::declare_parameters(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
     prm.leave_subsection();
 
     prm.enter_subsection("Materials");
@@ -203,6 +212,7 @@ namespace perideal
       return s;
     };
     set_names({"Discretization", "Regions"}, "My region");
+    set_names({"Discretization", "Bond filters"}, "My filter");
     set_names({"Materials"}, join(names.materials));
     set_names({"Damage models"}, join(names.damage_models));
     set_names({"Blocks"}, "My block");
@@ -281,6 +291,7 @@ namespace perideal
       declare_parameters(prm, names);
       parse_input_file(prm, file, false);
       names.regions    = read_list(prm, {"Discretization", "Regions"});
+      names.bond_filters = read_list(prm, {"Discretization", "Bond filters"});
       names.blocks     = read_list(prm, {"Blocks"});
       names.conditions = read_list(prm, {"Boundary conditions"});
       names.computes   = read_list(prm, {"Computes"});
@@ -330,6 +341,16 @@ namespace perideal
         region->name = name;
         region->parse_parameters(prm, "Discretization/Regions/" + name);
         regions[name] = std::move(region);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+    prm.enter_subsection("Bond filters");
+    for (const auto &name : names.bond_filters)
+      {
+        prm.enter_subsection(name);
+        bond_filters.emplace_back();
+        bond_filters.back().name = name;
+        bond_filters.back().parse_parameters(prm, "Discretization/Bond filters/" + name);
         prm.leave_subsection();
       }
     prm.leave_subsection();
@@ -476,9 +497,12 @@ namespace perideal
     AssertThrow(requested_steps > 0 || final_time > initial_time,
                 ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
                            "Solver/Number of steps)"));
-    AssertThrow(!has_continuum || solver_type == "Verlet",
+    AssertThrow(!has_continuum || solver_type != "Newmark",
                 ExcMessage("Solver/Type: continuum blocks (Blocks/*/Type = Continuum) run with the Verlet "
-                           "solver only so far; QuasiStatic and Newmark do not assemble the FE part yet"));
+                           "and QuasiStatic solvers; Newmark does not integrate the FE nodes yet"));
+    AssertThrow(!has_continuum || solver_type != "QuasiStatic" || implicit.jacobian == "Assembled",
+                ExcMessage("Solver/Implicit/Jacobian: a scene with continuum blocks needs Assembled (the FE "
+                           "stiffness joins the PD tangent in one matrix)"));
     AssertThrow(fixed_dt > 0 || safety_factor > 0,
                 ExcMessage("Solver/Verlet/Safety factor must be positive when Fixed dt is 0"));
 
@@ -632,9 +656,41 @@ namespace perideal
       for (unsigned int b = 0; b < blocks.size(); ++b)
         horizon[b] = blocks[b].horizon;
       bonds = find_families(cloud, horizon, comm);
+      if (!bond_filters.empty())
+        apply_bond_filters();
       if (has_continuum)
         drop_unweighted_bonds();
     }
+  }
+
+  void
+  Simulation::apply_bond_filters()
+  {
+    filtered_bonds.assign(bond_filters.size(), 0);
+    std::size_t kept = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        const std::size_t begin = bonds.offsets[i], end = bonds.offsets[i + 1];
+        bonds.offsets[i]        = kept;
+        const Point<dim>  x     = cloud.position(i);
+        for (std::size_t b = begin; b < end; ++b)
+          {
+            const unsigned int j   = bonds.neighbor[b];
+            bool               cut = false;
+            for (unsigned int f = 0; f < bond_filters.size() && !cut; ++f)
+              if (bond_filters[f].cuts(x, cloud.position(j)))
+                {
+                  cut = true;
+                  ++filtered_bonds[f];
+                }
+            if (!cut)
+              bonds.neighbor[kept++] = j;
+          }
+      }
+    bonds.offsets[cloud.n_owned()] = kept;
+    bonds.neighbor.resize(kept);
+    bonds.neighbor.shrink_to_fit();
+    Utilities::MPI::sum(filtered_bonds, comm, filtered_bonds);
   }
 
   void
@@ -960,6 +1016,13 @@ namespace perideal
         continuum->hanging.distribute(continuum->U);
         continuum->hanging.distribute(continuum->V);
       }
+    // Where the prescribed velocities start from (apply_prescribed).
+    constraint_displacement.resize(constraints.size());
+    for (unsigned int k = 0; k < constraints.size(); ++k)
+      constraint_displacement[k] = displacement.local_element(dim * constraints[k].point + constraints[k].component);
+    node_constraint_displacement.resize(node_constraints.size());
+    for (unsigned int k = 0; k < node_constraints.size(); ++k)
+      node_constraint_displacement[k] = continuum->U.local_element(continuum->nodes[node_constraints[k].node].local);
     evaluate_loads(initial_time);
     check_condition_values(first_nonfinite_condition(initial_time), initial_time);
   }
@@ -1018,9 +1081,12 @@ namespace perideal
   void
   Simulation::apply_prescribed(const double time, const double step_dt)
   {
-    // One prescribed entry (u, v) at x for the step that ends at time.
+    // One prescribed entry (u, v) at x for the step that ends at time. A
+    // prescribed velocity integrates its own displacement (midpoint rule) in
+    // @p own and assigns it: the integrators may have moved u already (the
+    // Verlet drift, Newmark's predictor), which must not count twice.
     const auto prescribe = [&](const unsigned int condition, const Point<dim> &x, const std::uint64_t h, double &u,
-                               double &v) {
+                               double &v, double &own) {
       const BoundaryCondition &bc = conditions[condition];
       if (bc.type == BoundaryCondition::Type::prescribed_displacement)
         {
@@ -1030,22 +1096,25 @@ namespace perideal
         }
       else
         {
-          u += step_dt * bc.value->value(x, time - 0.5 * step_dt, h);
+          own += step_dt * bc.value->value(x, time - 0.5 * step_dt, h);
+          u = own;
           v = bc.value->value(x, time, h);
         }
       if (!std::isfinite(u) || !std::isfinite(v))
         bad_condition = condition + 1;
     };
-    for (const Constraint &c : constraints)
+    for (unsigned int k = 0; k < constraints.size(); ++k)
       {
+        const Constraint  &c = constraints[k];
         const unsigned int e = dim * c.point + c.component;
         prescribe(c.condition, cloud.position(c.point), cloud.hash(c.point), displacement.local_element(e),
-                  velocity.local_element(e));
+                  velocity.local_element(e), constraint_displacement[k]);
       }
-    for (const auto &c : node_constraints)
+    for (unsigned int k = 0; k < node_constraints.size(); ++k)
       {
-        const ContinuumField::Node &node = continuum->nodes[c.node];
-        prescribe(c.condition, node.x, 0, continuum->U.local_element(node.local), continuum->V.local_element(node.local));
+        const ContinuumField::Node &node = continuum->nodes[node_constraints[k].node];
+        prescribe(node_constraints[k].condition, node.x, 0, continuum->U.local_element(node.local),
+                  continuum->V.local_element(node.local), node_constraint_displacement[k]);
       }
   }
 
@@ -1132,7 +1201,20 @@ namespace perideal
               v == 'F' ? std::function<double(unsigned int)>([this, local](unsigned int k) { return continuum->F.local_element(local(k)); }) :
                          std::function<double(unsigned int)>();
           }
-        row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm, node_value, node_volume));
+        if (compute.reference)
+          {
+            const Expression &ref = *compute.reference;
+            row.emplace_back(compute.name,
+                             compute.evaluate([&](unsigned int i) { return std::abs(value(i) - ref.value(cloud.position(i), time)); },
+                                              cloud.volume, comm,
+                                              node_value ? std::function<double(unsigned int)>([&](unsigned int k) {
+                                                return std::abs(node_value(k) - ref.value(continuum->nodes[k].x, time));
+                                              }) :
+                                                           std::function<double(unsigned int)>(),
+                                              node_volume));
+          }
+        else
+          row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm, node_value, node_volume));
       }
     if (solver_type != "Verlet")
       {
@@ -1148,6 +1230,8 @@ namespace perideal
             reaction[c.condition] += (acceleration.empty() ? 0.0 : mass_density[c.point] * cloud.volume[c.point] * acceleration[k]) -
                                      cloud.volume[c.point] * force.local_element(k);
           }
+        for (const auto &c : node_constraints) // quasistatic: the nodal force's opposite
+          reaction[c.condition] -= continuum->F.local_element(continuum->nodes[c.node].local);
         Utilities::MPI::sum(reaction, comm, reaction);
         for (unsigned int c = 0; c < conditions.size(); ++c)
           if (conditions[c].is_prescribed())
@@ -1157,11 +1241,13 @@ namespace perideal
   }
 
   void
-  Simulation::write_output(const unsigned int step, const double time)
+  Simulation::write_output(const unsigned int step, const double time, const bool globals, const bool field_files)
   {
     TimerOutput::Scope t(timer, "output");
-    const auto         row = global_quantities(step, time);
-    output.write_globals(row, comm);
+    if (globals)
+      output.write_globals(global_quantities(step, time), comm);
+    if (!field_files)
+      return;
 
     const unsigned int n = cloud.n_owned();
     std::vector<std::unique_ptr<Vector<double>>> cell_storage;
@@ -1280,6 +1366,12 @@ namespace perideal
                                       " (directed; family size " + std::to_string(min_family) + " to " +
                                         std::to_string(max_family) + ")")
           << "\n";
+    for (unsigned int f = 0; f < bond_filters.size(); ++f)
+      pcout << "  bond filter '" << bond_filters[f].name << "': " << filtered_bonds[f] << " directed bonds cut"
+            << (filtered_bonds[f] == 0 ? " (none: check its corner, vectors and lengths; the side runs along "
+                                         "Normal x Bottom unit vector)" :
+                                         "")
+            << "\n";
     if (Utilities::MPI::n_mpi_processes(comm) > 1)
       {
         // The bond loops dominate a step: bonds per rank is the load balance.
@@ -1409,7 +1501,7 @@ namespace perideal
     const auto row = global_quantities(0, time);
     initial_energy = row[2].second + row[3].second;
     if (output.is_output_step(0, n_steps))
-      write_output(0, time);
+      write_output(0, time, output.is_globals_step(0, n_steps), output.is_field_step(0, n_steps));
   }
 
   double
@@ -1758,7 +1850,7 @@ namespace perideal
           }
         time = new_time;
         if (output_step)
-          write_output(step, time);
+          write_output(step, time, output.is_globals_step(step, n_steps), output.is_field_step(step, n_steps));
 
         const auto   now     = std::chrono::steady_clock::now();
         const double percent = 100.0 * step / n_steps;

@@ -3,15 +3,19 @@
 // (Peridigm's Node_Set_Data computes): the sum, volume-weighted mean, minimum
 // or maximum of a displacement, force or reference-position component, the
 // damage or the largest bond stretch over the region's points.
+// With a Reference expression it takes |q - reference(x, t)|: errors against
+// analytic solutions (patch tests, verification).
 // Reaction forces, virtual strain gauges (the difference of two region means
 // of the displacement over the difference of their mean positions) and probes
 // are built from it.
 
+#include <perideal/base/expression.h>
 #include <perideal/base/input.h>
 
 #include <deal.II/base/mpi.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,6 +51,7 @@ namespace perideal
     }
 
     std::string               name, region, variable, operation;
+    std::shared_ptr<const Expression> reference; // none: the variable itself
     unsigned int              component = 0; // for vector variables
     std::vector<unsigned int> points;        // owned points in the region
     std::vector<unsigned int> nodes;         // owned FE DoFs in the region it uses (continuum blocks)

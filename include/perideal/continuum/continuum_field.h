@@ -100,6 +100,24 @@ namespace perideal
     double
     local_kinetic_energy() const;
 
+    /// The stiffness (energy-weighted, condensed by the hanging-node constraints).
+    const dealii::TrilinosWrappers::SparseMatrix &
+    stiffness() const
+    {
+      return K;
+    }
+    const PointInterpolation &
+    interpolation() const
+    {
+      return Pi;
+    }
+    /// Owned and locally relevant DoFs: the layout of U, V, F, mass and load.
+    const std::shared_ptr<const dealii::Utilities::MPI::Partitioner> &
+    vector_partitioner() const
+    {
+      return partitioner;
+    }
+
     bool
     empty() const
     {

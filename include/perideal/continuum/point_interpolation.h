@@ -56,6 +56,17 @@ namespace perideal
     void
     add_transpose(const std::vector<double> &f, VectorType &F) const;
 
+    /// Calls @p f(row, dof, weight) for every entry of Pi: row = dim k + c
+    /// for point k and component c, dof as stored (local with a partitioner).
+    template <typename Function>
+    void
+    for_each_entry(const Function &f) const
+    {
+      for (std::size_t k = 0; k + 1 < offsets.size(); ++k)
+        for (std::size_t e = offsets[k]; e < offsets[k + 1]; ++e)
+          f(k, dofs[e], weight[e]);
+    }
+
   private:
     std::vector<std::size_t>                     offsets{0}; // per point and component, into weight and dofs
     std::vector<double>                          weight;     // N_a(x_k) (times the constraint's weight)

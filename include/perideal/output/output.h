@@ -37,9 +37,22 @@ namespace perideal
 
     /// Step 0, every Frequency-th step and the last one; none if Frequency is 0.
     bool
-    is_output_step(const unsigned int step, const unsigned int n_steps) const
+    is_field_step(const unsigned int step, const unsigned int n_steps) const
     {
       return frequency > 0 && (step % frequency == 0 || step == n_steps);
+    }
+    /// The same for the globals CSV with Globals frequency (0: Frequency).
+    bool
+    is_globals_step(const unsigned int step, const unsigned int n_steps) const
+    {
+      const unsigned int f = globals_frequency > 0 ? globals_frequency : frequency;
+      return globals && f > 0 && (step % f == 0 || step == n_steps);
+    }
+    /// A step that writes fields or globals.
+    bool
+    is_output_step(const unsigned int step, const unsigned int n_steps) const
+    {
+      return is_field_step(step, n_steps) || is_globals_step(step, n_steps);
     }
 
     /// Creates the output directory and clears the series. Collective.
@@ -68,6 +81,7 @@ namespace perideal
     std::string           directory = "output";
     std::string           base_name = "run";
     unsigned int          frequency = 0;
+    unsigned int          globals_frequency = 0; // 0: frequency
     std::set<std::string> variables;
     bool                  globals = true;
 

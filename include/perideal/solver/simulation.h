@@ -14,8 +14,10 @@
 #include <perideal/geometry/region.h>
 #include <perideal/geometry/scene.h>
 #include <perideal/material/material.h>
+#include <perideal/neighborhood/bond_filter.h>
 #include <perideal/neighborhood/bonds.h>
 #include <perideal/output/output.h>
+#include <perideal/solver/coupled_tangent.h>
 #include <perideal/solver/implicit.h>
 #include <perideal/solver/tangent.h>
 
@@ -37,7 +39,7 @@ namespace perideal
   /// The user-chosen names of a parameter file (and the model of each).
   struct DeckNames
   {
-    std::vector<std::string>           regions, blocks, conditions, computes;
+    std::vector<std::string>           regions, bond_filters, blocks, conditions, computes;
     std::map<std::string, std::string> materials, damage_models; // name -> model ("" unknown yet)
   };
 
@@ -96,6 +98,9 @@ namespace perideal
     /// DoFs, point cloud and families of the current partition.
     void
     build_points_and_bonds();
+    /// Removes the bonds that cross a bond filter; counts them per filter.
+    void
+    apply_bond_filters();
     /// Checks the families, assigns points to blocks, initializes the models.
     void
     setup_models();
@@ -117,8 +122,10 @@ namespace perideal
     compute_forces(const bool with_energy);
     double
     stable_time_step();
+    /// The globals row and/or the field files of @p step (the error path
+    /// writes both).
     void
-    write_output(const unsigned int step, const double time);
+    write_output(const unsigned int step, const double time, const bool globals = true, const bool field_files = true);
     std::vector<std::pair<std::string, double>>
     global_quantities(const unsigned int step, const double time);
     void
@@ -160,6 +167,12 @@ namespace perideal
     /// |R| and sets |V (f + b)| over all DoFs (the force scale).
     double
     residual(std::vector<double> &R, double &force_norm);
+    /// The implicit solvers' unknowns on this rank: every owned PD DoF, or
+    /// with continuum blocks the free DoFs of coupled_tangent.h.
+    unsigned int
+    n_unknowns() const;
+    double &
+    unknown(const unsigned int j);
     void
     assemble_tangent();
     /// Solves K du = R; returns the Krylov iterations.
@@ -192,6 +205,8 @@ namespace perideal
 
     Scene                                       scene;
     std::map<std::string, std::unique_ptr<Region>> regions;
+    std::vector<BondFilter>                     bond_filters;
+    std::vector<std::size_t>                    filtered_bonds; // per filter: directed bonds it cut (all ranks)
     std::vector<Block>                          blocks;
     std::vector<BoundaryCondition>              conditions;
     std::vector<RegionCompute>                  computes;
@@ -221,6 +236,7 @@ namespace perideal
     };
     std::vector<NodeConstraint> node_constraints;
     std::vector<double>         node_constraint_force;
+    std::vector<double>         node_constraint_displacement; // per node constraint: its own u (prescribed velocity)
     /// The point cloud of a run with continuum blocks: PD points and the
     /// virtual points of the FE cells within reach of them, with alpha (PD
     /// energy weight) per point and 1 - alpha per FE cell from the distance
@@ -263,6 +279,7 @@ namespace perideal
     };
     std::vector<Constraint> constraints;
     std::vector<double>     constraint_force; // internal force at the constraints, previous step
+    std::vector<double>     constraint_displacement; // per constraint: its own u (prescribed velocity)
     unsigned int            bad_condition = 0; // 1 + index of a condition that gave a non-finite value
 
     // Diagnostics
@@ -280,6 +297,8 @@ namespace perideal
     // Implicit solvers only (nothing allocated for an explicit run).
     bool                      breaking_allowed = true; // false: bonds break only in break_bonds()
     std::unique_ptr<Tangent>  tangent;
+    std::unique_ptr<CoupledTangent> coupled_tangent; // with continuum blocks
+    bool                      symmetry_reported = false;
     std::vector<std::uint8_t> constrained_dofs; // per local DoF
     std::vector<double>       rigid_modes;      // 6 x owned DoFs, column major
     std::vector<double>       block_inverse;    // matrix free: 9 per owned point

@@ -1,0 +1,17 @@
+#!/bin/bash
+# Runs the notched plate coupled and all-PD, one after the other on the same
+# ranks, and prints the comparison table of README.md (compare.py).
+#
+# usage: doc/examples/notched_plate/run.sh [ranks (default 2)] [pd_app (default build/pd_app)]
+# Output in doc/examples/notched_plate/output/, logs coupled.log and all_pd.log
+# beside the parameter files. About 2 minutes on 2 cores.
+set -eu -o pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+ranks=${1:-2}
+pd_app=${2:-$here/../../../build/pd_app}
+cd "$here"
+for run in coupled all_pd; do
+  echo "running $run.prm on $ranks ranks ..."
+  mpirun -np "$ranks" "$pd_app" "$run.prm" > "$run.log"
+done
+python3 compare.py .

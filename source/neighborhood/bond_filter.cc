@@ -1,0 +1,73 @@
+#include <perideal/neighborhood/bond_filter.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <cmath>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    Tensor<1, dim>
+    read_vector(ParameterHandler &prm, const std::string &key)
+    {
+      const auto     v = Utilities::string_to_double(Utilities::split_string_list(prm.get(key)));
+      Tensor<1, dim> t;
+      for (unsigned int d = 0; d < dim; ++d)
+        t[d] = v[d];
+      return t;
+    }
+  } // namespace
+
+  void
+  BondFilter::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Type", "Rectangular plane", Patterns::Selection("Rectangular plane"),
+                      "Rectangular plane: no bond crosses the rectangle (Peridigm's Rectangular_Plane).");
+    prm.declare_entry("Lower left corner", "0,0,0", Patterns::List(Patterns::Double(), 3, 3),
+                      "x,y,z of the rectangle's corner.");
+    prm.declare_entry("Bottom unit vector", "1,0,0", Patterns::List(Patterns::Double(), 3, 3),
+                      "Direction of the bottom edge from the corner (normalised).");
+    prm.declare_entry("Normal", "0,1,0", Patterns::List(Patterns::Double(), 3, 3),
+                      "Normal of the rectangle (normalised; must be perpendicular to the bottom edge). "
+                      "The side edge runs along Normal x Bottom unit vector.");
+    prm.declare_entry("Bottom length", "0", Patterns::Double(0), "Length of the bottom edge.");
+    prm.declare_entry("Side length", "0", Patterns::Double(0), "Length of the side edge.");
+  }
+
+  void
+  BondFilter::parse_parameters(ParameterHandler &prm, const std::string &path)
+  {
+    Point<dim> c;
+    const auto v = read_vector(prm, "Lower left corner");
+    for (unsigned int d = 0; d < dim; ++d)
+      c[d] = v[d];
+    corner = c;
+    bottom = read_vector(prm, "Bottom unit vector");
+    normal = read_vector(prm, "Normal");
+    AssertThrow(bottom.norm() > 0 && normal.norm() > 0,
+                ExcMessage(path + ": Bottom unit vector and Normal must not be zero"));
+    bottom /= bottom.norm();
+    normal /= normal.norm();
+    AssertThrow(std::abs(bottom * normal) < 1e-6,
+                ExcMessage(path + ": Normal must be perpendicular to Bottom unit vector"));
+    side          = cross_product_3d(normal, bottom);
+    bottom_length = prm.get_double("Bottom length");
+    side_length   = prm.get_double("Side length");
+    AssertThrow(bottom_length > 0 && side_length > 0,
+                ExcMessage(path + ": Bottom length and Side length must be positive"));
+  }
+
+  bool
+  BondFilter::cuts(const Point<dim> &a, const Point<dim> &b) const
+  {
+    const double sa = normal * (a - corner), sb = normal * (b - corner);
+    if ((sa > 0 && sb > 0) || (sa < 0 && sb < 0) || sa == sb)
+      return false;
+    const Point<dim> q = a + (sa / (sa - sb)) * (b - a);
+    const double     u = bottom * (q - corner), v = side * (q - corner);
+    return u >= 0 && u <= bottom_length && v >= 0 && v <= side_length;
+  }
+} // namespace perideal
