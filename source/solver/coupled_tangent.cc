@@ -114,6 +114,18 @@ namespace perideal
     matrix.reinit(*sum, true);
   }
 
+  void
+  CoupledTangent::add_to_fe_diagonal(const std::vector<double> &values)
+  {
+    const Index first = owned.n_elements() ? *owned.begin() : 0;
+    for (unsigned int j = 0; j < values.size(); ++j)
+      {
+        const Index row = first + pd_dofs.size() + j;
+        matrix.add(row, row, values[j]);
+      }
+    matrix.compress(VectorOperation::add);
+  }
+
   double
   CoupledTangent::symmetry_defect() const
   {

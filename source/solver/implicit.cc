@@ -296,9 +296,21 @@ namespace perideal
         // and FE node, supports included.
         const std::vector<unsigned int> &pd = coupled_tangent->pd_dofs, &fe = coupled_tangent->fe_dofs;
         for (unsigned int j = 0; j < pd.size(); ++j)
-          R[j] = cloud.volume[pd[j] / dim] * force.local_element(pd[j]);
+          {
+            const unsigned int k = pd[j];
+            R[j]                 = cloud.volume[k / dim] * force.local_element(k);
+            if (newmark_inertia > 0)
+              R[j] -= mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
+                      (displacement.local_element(k) - u_predicted[k]);
+          }
         for (unsigned int j = 0; j < fe.size(); ++j)
-          R[pd.size() + j] = continuum->F.local_element(fe[j]);
+          {
+            const unsigned int l = fe[j];
+            R[pd.size() + j]     = continuum->F.local_element(l);
+            if (newmark_inertia > 0)
+              R[pd.size() + j] -= continuum->mass.local_element(l) * newmark_inertia *
+                                  (continuum->U.local_element(l) - fe_u_predicted[l]);
+          }
         for (const double r : R)
           free += r * r;
         for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
@@ -396,10 +408,18 @@ namespace perideal
       {
         TimerOutput::Scope t(timer, "implicit: coupled tangent");
         coupled_tangent->assemble(tangent->matrix);
+        if (newmark_inertia > 0) // the PD points' mass went in through A
+          {
+            std::vector<double> mass(coupled_tangent->fe_dofs.size());
+            for (unsigned int j = 0; j < mass.size(); ++j)
+              mass[j] = continuum->mass.local_element(coupled_tangent->fe_dofs[j]) * newmark_inertia;
+            coupled_tangent->add_to_fe_diagonal(mass);
+          }
         rebuild_amg = true; // a new matrix object
         if (!symmetry_reported)
           {
-            pcout << "  coupled tangent: symmetry defect |x.Ky - y.Kx| / (|x| |y| |K|) = "
+            pcout << "  coupled tangent: " << coupled_tangent->matrix.n_nonzero_elements()
+                  << " nonzeros; symmetry defect |x.Ky - y.Kx| / (|x| |y| |K|) = "
                   << sci(coupled_tangent->symmetry_defect(), 3) << std::endl;
             symmetry_reported = true;
           }
@@ -738,11 +758,37 @@ namespace perideal
     double *const      u = displacement.begin();
     double *const      v = velocity.begin();
 
-    // The initial acceleration from the equation of motion.
+    // The FE nodes of continuum blocks: the same steps over the owned DoFs
+    // that carry equations (hanging ones follow their masters).
+    const std::vector<unsigned int> no_dofs;
+    const std::vector<unsigned int> &fe_dofs = has_continuum ? continuum->free : no_dofs;
+    double *const U = has_continuum ? continuum->U.begin() : nullptr;
+    double *const V = has_continuum ? continuum->V.begin() : nullptr;
+    std::vector<double> fe_acceleration(fe_dofs.size()), fe_v_predicted(fe_dofs.size()), fe_u_before(fe_dofs.size()),
+      load_before(fe_dofs.size());
+    if (has_continuum)
+      fe_u_predicted.assign(continuum->U.locally_owned_size(), 0.0);
+    std::vector<std::uint8_t> fe_prescribed(has_continuum ? continuum->U.locally_owned_size() : 0, 0);
+    for (const auto &c : node_constraints)
+      fe_prescribed[continuum->nodes[c.node].local] = 1;
+    std::vector<double> node_support_before(node_constraints.size());
+
+    // The initial acceleration from the equation of motion (virtual points
+    // have no mass: they follow the FE field).
     evaluate_initial_state();
     acceleration.resize(n);
     for (unsigned int k = 0; k < n; ++k)
-      acceleration[k] = force.local_element(k) / mass_density[k / dim];
+      acceleration[k] = mass_density[k / dim] > 0 ? force.local_element(k) / mass_density[k / dim] : 0.0;
+    for (unsigned int j = 0; j < fe_dofs.size(); ++j)
+      fe_acceleration[j] = continuum->F.local_element(fe_dofs[j]) / continuum->mass.local_element(fe_dofs[j]);
+    std::vector<unsigned int> fe_index_of(fe_prescribed.size(), 0); // local FE DoF -> index in fe_dofs
+    for (unsigned int j = 0; j < fe_dofs.size(); ++j)
+      fe_index_of[fe_dofs[j]] = j;
+    // A support's force at an FE node: M a - F.
+    const auto node_support_force = [&](const NodeConstraint &c) {
+      const unsigned int l = continuum->nodes[c.node].local;
+      return continuum->mass.local_element(l) * fe_acceleration[fe_index_of[l]] - continuum->F.local_element(l);
+    };
     record_initial_state(n_steps, t0);
     pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of " << sci(dt, 6)
           << " from t = " << t0 << "; tangent " << describe_tangent() << std::endl;
@@ -764,6 +810,8 @@ namespace perideal
         pcout << "Step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
         for (unsigned int c = 0; c < constraints.size(); ++c)
           support_before[c] = support_force(constraints[c]);
+        for (unsigned int c = 0; c < node_constraints.size(); ++c)
+          node_support_before[c] = node_support_force(node_constraints[c]);
         body_before = body_force;
         for (unsigned int k = 0; k < n; ++k)
           {
@@ -771,6 +819,15 @@ namespace perideal
             u_predicted[k] = u[k] + dt * v[k] + 0.5 * dt * dt * (1 - 2 * beta) * acceleration[k];
             v_predicted[k] = v[k] + dt * (1 - gamma) * acceleration[k];
             u[k]           = u_predicted[k];
+          }
+        for (unsigned int j = 0; j < fe_dofs.size(); ++j)
+          {
+            const unsigned int l = fe_dofs[j];
+            fe_u_before[j]       = U[l];
+            load_before[j]       = continuum->load.size() > 0 ? continuum->load.local_element(l) : 0.0;
+            fe_u_predicted[l]    = U[l] + dt * V[l] + 0.5 * dt * dt * (1 - 2 * beta) * fe_acceleration[j];
+            fe_v_predicted[j]    = V[l] + dt * (1 - gamma) * fe_acceleration[j];
+            U[l]                 = fe_u_predicted[l];
           }
         apply_prescribed(time, dt);
         if (loads_depend_on_time)
@@ -785,9 +842,28 @@ namespace perideal
             acceleration[k] = (u[k] - u_predicted[k]) * newmark_inertia;
             v[k]            = v_predicted[k] + gamma * dt * acceleration[k];
           }
+        for (unsigned int j = 0; j < fe_dofs.size(); ++j)
+          {
+            const unsigned int l = fe_dofs[j];
+            fe_acceleration[j]   = (U[l] - fe_u_predicted[l]) * newmark_inertia;
+            V[l]                 = fe_v_predicted[j] + gamma * dt * fe_acceleration[j];
+          }
+        if (has_continuum && continuum->hanging.n_constraints() > 0)
+          continuum->hanging.distribute(continuum->V);
         displacement.update_ghost_values();
         compute_forces(true);
         double work = 0;
+        for (unsigned int c = 0; c < node_constraints.size(); ++c)
+          {
+            const unsigned int l = continuum->nodes[node_constraints[c].node].local;
+            work += 0.5 * (node_support_before[c] + node_support_force(node_constraints[c])) *
+                    (U[l] - fe_u_before[fe_index_of[l]]);
+          }
+        if (has_continuum && continuum->load.size() > 0)
+          for (unsigned int j = 0; j < fe_dofs.size(); ++j)
+            if (!fe_prescribed[fe_dofs[j]])
+              work += 0.5 * (load_before[j] + continuum->load.local_element(fe_dofs[j])) *
+                      (U[fe_dofs[j]] - fe_u_before[j]);
         for (unsigned int c = 0; c < constraints.size(); ++c)
           {
             const unsigned int k = dim * constraints[c].point + constraints[c].component;

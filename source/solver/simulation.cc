@@ -497,10 +497,7 @@ namespace perideal
     AssertThrow(requested_steps > 0 || final_time > initial_time,
                 ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
                            "Solver/Number of steps)"));
-    AssertThrow(!has_continuum || solver_type != "Newmark",
-                ExcMessage("Solver/Type: continuum blocks (Blocks/*/Type = Continuum) run with the Verlet "
-                           "and QuasiStatic solvers; Newmark does not integrate the FE nodes yet"));
-    AssertThrow(!has_continuum || solver_type != "QuasiStatic" || implicit.jacobian == "Assembled",
+    AssertThrow(!has_continuum || solver_type == "Verlet" || implicit.jacobian == "Assembled",
                 ExcMessage("Solver/Implicit/Jacobian: a scene with continuum blocks needs Assembled (the FE "
                            "stiffness joins the PD tangent in one matrix)"));
     AssertThrow(fixed_dt > 0 || safety_factor > 0,

@@ -50,6 +50,11 @@ namespace perideal
     void
     assemble(const dealii::TrilinosWrappers::SparseMatrix &A);
 
+    /// Adds @p values (one per FE unknown, in fe_dofs' order) to the
+    /// diagonal of the assembled matrix (Newmark's mass term). Collective.
+    void
+    add_to_fe_diagonal(const std::vector<double> &values);
+
     /// |x.Ky - y.Kx| / (|x| |y| max(|Kx|/|x|, |Ky|/|y|)) for two fixed
     /// pseudo-random vectors (the same on any number of ranks): 0 for a
     /// symmetric K, round-off in practice. Collective.

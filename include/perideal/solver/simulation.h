@@ -311,6 +311,7 @@ namespace perideal
     unsigned int              last_damage_solves = 0;
     double                    newmark_inertia = 0; // 1/(beta dt^2); 0: quasistatic
     std::vector<double>       u_predicted;         // Newmark predictor, owned DoFs
+    std::vector<double>       fe_u_predicted;      // Newmark predictor, owned FE DoFs (continuum blocks)
     std::vector<double>       acceleration;        // Newmark, owned DoFs
   };
 } // namespace perideal
