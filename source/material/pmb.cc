@@ -78,18 +78,10 @@ namespace perideal
         c.local_element(i) = micromodulus();
       if (!surface_correction)
         return;
-      const double *X = state.cloud.X.data();
       const double *V = state.cloud.volume.data();
       for (const unsigned int i : points)
         {
-          double sum = 0;
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const double       dx = X[3 * j] - X[3 * i], dy = X[3 * j + 1] - X[3 * i + 1],
-                           dz = X[3 * j + 2] - X[3 * i + 2];
-              sum += std::sqrt(dx * dx + dy * dy + dz * dz) * V[j];
-            }
+          const double sum = family_sum(state, i, [&](const unsigned int j, const double r0) { return r0 * V[j]; });
           if (sum > 0)
             c.local_element(i) *= M_PI * std::pow(horizon, 4) / sum;
         }
@@ -141,20 +133,13 @@ namespace perideal
       // Silling-Askari: dt_i = sqrt(2 rho / sum_j V_j c_ij / |xi_ij|), the
       // Gershgorin bound of the bond-based tangent.
       const VectorType &c  = state.fields.get("pmb_micromodulus");
-      const double     *X  = state.cloud.X.data();
       const double     *V  = state.cloud.volume.data();
       double            dt = std::numeric_limits<double>::max();
       for (const unsigned int i : points)
         {
-          double sum = 0;
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const double       dx = X[3 * j] - X[3 * i], dy = X[3 * j + 1] - X[3 * i + 1],
-                           dz = X[3 * j + 2] - X[3 * i + 2];
-              sum += V[j] * 0.5 * (c.local_element(i) + c.local_element(j)) /
-                     std::sqrt(dx * dx + dy * dy + dz * dz);
-            }
+          const double sum = family_sum(state, i, [&](const unsigned int j, const double r0) {
+            return V[j] * 0.5 * (c.local_element(i) + c.local_element(j)) / r0;
+          });
           if (sum > 0)
             dt = std::min(dt, std::sqrt(2 * rho / sum));
         }
@@ -213,6 +198,22 @@ namespace perideal
   private:
     double rho = 0, K = 0;
     bool   surface_correction = false;
+
+    /// sum over the bonds of owned point @p i of f(j, |xi_ij|) (set-up loops).
+    template <typename Function>
+    static double
+    family_sum(const ModelState &state, const unsigned int i, const Function &f)
+    {
+      const double *X   = state.cloud.X.data();
+      double        sum = 0;
+      for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+        {
+          const unsigned int j  = state.bonds.neighbor[b];
+          const double       dx = X[3 * j] - X[3 * i], dy = X[3 * j + 1] - X[3 * i + 1], dz = X[3 * j + 2] - X[3 * i + 2];
+          sum += f(j, std::sqrt(dx * dx + dy * dy + dz * dz));
+        }
+      return sum;
+    }
 
     bool
     uniform_neighborhood(const ModelState                &state,

@@ -764,10 +764,12 @@ namespace perideal
     const std::vector<unsigned int> &fe_dofs = has_continuum ? continuum->free : no_dofs;
     double *const U = has_continuum ? continuum->U.begin() : nullptr;
     double *const V = has_continuum ? continuum->V.begin() : nullptr;
-    std::vector<double> fe_acceleration(fe_dofs.size()), fe_v_predicted(fe_dofs.size()), fe_u_before(fe_dofs.size()),
-      load_before(fe_dofs.size());
+    std::vector<double> fe_v_predicted(fe_dofs.size()), fe_u_before(fe_dofs.size()), load_before(fe_dofs.size());
     if (has_continuum)
-      fe_u_predicted.assign(continuum->U.locally_owned_size(), 0.0);
+      {
+        fe_u_predicted.assign(continuum->U.locally_owned_size(), 0.0);
+        fe_acceleration.assign(continuum->U.locally_owned_size(), 0.0);
+      }
     std::vector<std::uint8_t> fe_prescribed(has_continuum ? continuum->U.locally_owned_size() : 0, 0);
     for (const auto &c : node_constraints)
       fe_prescribed[continuum->nodes[c.node].local] = 1;
@@ -779,15 +781,15 @@ namespace perideal
     acceleration.resize(n);
     for (unsigned int k = 0; k < n; ++k)
       acceleration[k] = mass_density[k / dim] > 0 ? force.local_element(k) / mass_density[k / dim] : 0.0;
-    for (unsigned int j = 0; j < fe_dofs.size(); ++j)
-      fe_acceleration[j] = continuum->F.local_element(fe_dofs[j]) / continuum->mass.local_element(fe_dofs[j]);
+    for (const unsigned int l : fe_dofs)
+      fe_acceleration[l] = continuum->F.local_element(l) / continuum->mass.local_element(l);
     std::vector<unsigned int> fe_index_of(fe_prescribed.size(), 0); // local FE DoF -> index in fe_dofs
     for (unsigned int j = 0; j < fe_dofs.size(); ++j)
       fe_index_of[fe_dofs[j]] = j;
     // A support's force at an FE node: M a - F.
     const auto node_support_force = [&](const NodeConstraint &c) {
       const unsigned int l = continuum->nodes[c.node].local;
-      return continuum->mass.local_element(l) * fe_acceleration[fe_index_of[l]] - continuum->F.local_element(l);
+      return continuum->mass.local_element(l) * fe_acceleration[l] - continuum->F.local_element(l);
     };
     record_initial_state(n_steps, t0);
     pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of " << sci(dt, 6)
@@ -825,8 +827,8 @@ namespace perideal
             const unsigned int l = fe_dofs[j];
             fe_u_before[j]       = U[l];
             load_before[j]       = continuum->load.size() > 0 ? continuum->load.local_element(l) : 0.0;
-            fe_u_predicted[l]    = U[l] + dt * V[l] + 0.5 * dt * dt * (1 - 2 * beta) * fe_acceleration[j];
-            fe_v_predicted[j]    = V[l] + dt * (1 - gamma) * fe_acceleration[j];
+            fe_u_predicted[l]    = U[l] + dt * V[l] + 0.5 * dt * dt * (1 - 2 * beta) * fe_acceleration[l];
+            fe_v_predicted[j]    = V[l] + dt * (1 - gamma) * fe_acceleration[l];
             U[l]                 = fe_u_predicted[l];
           }
         apply_prescribed(time, dt);
@@ -845,8 +847,8 @@ namespace perideal
         for (unsigned int j = 0; j < fe_dofs.size(); ++j)
           {
             const unsigned int l = fe_dofs[j];
-            fe_acceleration[j]   = (U[l] - fe_u_predicted[l]) * newmark_inertia;
-            V[l]                 = fe_v_predicted[j] + gamma * dt * fe_acceleration[j];
+            fe_acceleration[l]   = (U[l] - fe_u_predicted[l]) * newmark_inertia;
+            V[l]                 = fe_v_predicted[j] + gamma * dt * fe_acceleration[l];
           }
         if (has_continuum && continuum->hanging.n_constraints() > 0)
           continuum->hanging.distribute(continuum->V);

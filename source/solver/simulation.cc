@@ -60,24 +60,10 @@ namespace perideal
   {
     prm.enter_subsection("Discretization");
     Scene::declare_parameters(prm);
-    prm.enter_subsection("Regions");
-    declare_names_entry(prm, "regions (Peridigm's node sets); 'All' is always defined");
-    for (const auto &name : names.regions)
-      {
-        prm.enter_subsection(name);
-        Region::declare_parameters(prm);
-        prm.leave_subsection();
-      }
-    prm.leave_subsection();
-    prm.enter_subsection("Bond filters");
-    declare_names_entry(prm, "bond filters: planes no bond crosses (pre-cracks, notches)");
-    for (const auto &name : names.bond_filters)
-      {
-        prm.enter_subsection(name);
-        BondFilter::declare_parameters(prm);
-        prm.leave_subsection();
-      }
-    prm.leave_subsection();
+    declare_named_section(prm, "Regions", "regions (Peridigm's node sets); 'All' is always defined", names.regions,
+                          [&](const std::string &) { Region::declare_parameters(prm); });
+    declare_named_section(prm, "Bond filters", "bond filters: planes no bond crosses (pre-cracks, notches)",
+                          names.bond_filters, [&](const std::string &) { BondFilter::declare_parameters(prm); });
     prm.leave_subsection();
 
     prm.enter_subsection("Materials");
@@ -118,7 +104,7 @@ namespace perideal
                           "Peridynamic: one PD point per cell. Continuum: FE_Q(FE degree) linear elasticity "
                           "with the material's bulk modulus, shear modulus and density; peridynamic families "
                           "reach into its cells through virtual points (doc/coupling.md). Continuum blocks "
-                          "take no damage model and run with the Verlet solver.");
+                          "take no damage model.");
         prm.declare_entry("FE degree", "1", Patterns::Integer(1, 2), "Polynomial degree of a continuum block's FE_Q elements.");
         prm.leave_subsection();
       }
@@ -137,25 +123,11 @@ namespace perideal
                       "cells of the PD spacing, 1 for cells twice as large).");
     prm.leave_subsection();
 
-    prm.enter_subsection("Boundary conditions");
-    declare_names_entry(prm, "initial and boundary conditions");
-    for (const auto &name : names.conditions)
-      {
-        prm.enter_subsection(name);
-        BoundaryCondition::declare_parameters(prm);
-        prm.leave_subsection();
-      }
-    prm.leave_subsection();
-
-    prm.enter_subsection("Computes");
-    declare_names_entry(prm, "computes: global quantities over regions, extra columns of the globals CSV");
-    for (const auto &name : names.computes)
-      {
-        prm.enter_subsection(name);
-        RegionCompute::declare_parameters(prm);
-        prm.leave_subsection();
-      }
-    prm.leave_subsection();
+    declare_named_section(prm, "Boundary conditions", "initial and boundary conditions", names.conditions,
+                          [&](const std::string &) { BoundaryCondition::declare_parameters(prm); });
+    declare_named_section(prm, "Computes",
+                          "computes: global quantities over regions, extra columns of the globals CSV",
+                          names.computes, [&](const std::string &) { RegionCompute::declare_parameters(prm); });
 
     prm.enter_subsection("Solver");
     prm.declare_entry("Type", "Verlet", Patterns::Selection("Verlet|QuasiStatic|Newmark"),
@@ -1227,8 +1199,12 @@ namespace perideal
             reaction[c.condition] += (acceleration.empty() ? 0.0 : mass_density[c.point] * cloud.volume[c.point] * acceleration[k]) -
                                      cloud.volume[c.point] * force.local_element(k);
           }
-        for (const auto &c : node_constraints) // quasistatic: the nodal force's opposite
-          reaction[c.condition] -= continuum->F.local_element(continuum->nodes[c.node].local);
+        for (const auto &c : node_constraints) // M a - F at the node (quasistatic: -F)
+          {
+            const unsigned int l = continuum->nodes[c.node].local;
+            reaction[c.condition] += (fe_acceleration.empty() ? 0.0 : continuum->mass.local_element(l) * fe_acceleration[l]) -
+                                     continuum->F.local_element(l);
+          }
         Utilities::MPI::sum(reaction, comm, reaction);
         for (unsigned int c = 0; c < conditions.size(); ++c)
           if (conditions[c].is_prescribed())

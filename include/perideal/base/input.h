@@ -28,6 +28,28 @@ namespace perideal
   void
   declare_names_entry(ParameterHandler &prm, const std::string &what);
 
+  /// Declares the section @p section of user-named subsections: its Names
+  /// entry (@p what) and, in the subsection of each name n of @p names, what
+  /// @p declare(n) declares.
+  template <typename Names, typename Declare>
+  void
+  declare_named_section(ParameterHandler  &prm,
+                        const std::string &section,
+                        const std::string &what,
+                        const Names       &names,
+                        const Declare     &declare)
+  {
+    prm.enter_subsection(section);
+    declare_names_entry(prm, what);
+    for (const std::string &name : names)
+      {
+        prm.enter_subsection(name);
+        declare(name);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+  }
+
   /// Reads @p filename into @p prm. With @p strict false, keys not declared
   /// yet are skipped (an early pass). Errors name the file and the line.
   void

@@ -312,6 +312,7 @@ namespace perideal
     double                    newmark_inertia = 0; // 1/(beta dt^2); 0: quasistatic
     std::vector<double>       u_predicted;         // Newmark predictor, owned DoFs
     std::vector<double>       fe_u_predicted;      // Newmark predictor, owned FE DoFs (continuum blocks)
+    std::vector<double>       fe_acceleration;     // Newmark, owned FE DoFs (continuum blocks)
     std::vector<double>       acceleration;        // Newmark, owned DoFs
   };
 } // namespace perideal
