@@ -1430,6 +1430,9 @@ namespace perideal
           << " bytes per bond\n";
     if (explicit_run)
       pcout << "  stable time step:       " << sci(dt_stable, 6) << ", used " << sci(dt, 6) << "\n";
+    else if (solver_type == "Newmark")
+      pcout << "  time step:              " << sci(dt, 6) << " (" << sci(dt / dt_stable, 3)
+            << " x the explicit stable estimate " << sci(dt_stable, 6) << ")\n";
     if (solver_type != "QuasiStatic" && e_ref > 0)
       pcout << "  energy balance error:   "
             << sci((last_kinetic_energy + last_strain_energy - initial_energy - external_work) / e_ref, 3)
