@@ -26,6 +26,13 @@ namespace perideal
     return names;
   }
 
+  dealii::Point<3>
+  get_point(ParameterHandler &prm, const std::string &key)
+  {
+    const auto v = dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(key), ','));
+    return dealii::Point<3>(v[0], v[1], v[2]);
+  }
+
   void
   declare_names_entry(ParameterHandler &prm, const std::string &what)
   {

@@ -27,13 +27,8 @@ namespace perideal
   Region::parse_parameters(ParameterHandler &prm, const std::string &path)
   {
     type = prm.get("Type");
-    auto point = [&](const std::string &key) {
-      const auto v = Utilities::string_to_double(
-        Utilities::split_string_list(prm.get(key), ','));
-      return Point<dim>(v[0], v[1], v[2]);
-    };
-    lower = point("Lower corner");
-    upper = point("Upper corner");
+    lower = get_point(prm, "Lower corner");
+    upper = get_point(prm, "Upper corner");
     if (type == "Box")
       for (unsigned int d = 0; d < dim; ++d)
         AssertThrow(upper[d] >= lower[d],

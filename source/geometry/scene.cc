@@ -68,14 +68,9 @@ namespace perideal
       refinement_levels.push_back(l);
     AssertThrow(refinement_regions.size() == refinement_levels.size(),
                 ExcMessage("Discretization/Refinement levels: give one number per entry of Refinement regions"));
-    auto point = [&](const std::string &key) {
-      const auto v = Utilities::string_to_double(
-        Utilities::split_string_list(prm.get(key), ','));
-      return Point<dim>(v[0], v[1], v[2]);
-    };
     prm.enter_subsection("Box");
-    lower = point("Lower corner");
-    upper = point("Upper corner");
+    lower = get_point(prm, "Lower corner");
+    upper = get_point(prm, "Upper corner");
     {
       const auto v = Utilities::string_to_int(
         Utilities::split_string_list(prm.get("Subdivisions"), ','));

@@ -8,19 +8,6 @@ namespace perideal
 {
   using namespace dealii;
 
-  namespace
-  {
-    Tensor<1, dim>
-    read_vector(ParameterHandler &prm, const std::string &key)
-    {
-      const auto     v = Utilities::string_to_double(Utilities::split_string_list(prm.get(key)));
-      Tensor<1, dim> t;
-      for (unsigned int d = 0; d < dim; ++d)
-        t[d] = v[d];
-      return t;
-    }
-  } // namespace
-
   void
   BondFilter::declare_parameters(ParameterHandler &prm)
   {
@@ -40,13 +27,9 @@ namespace perideal
   void
   BondFilter::parse_parameters(ParameterHandler &prm, const std::string &path)
   {
-    Point<dim> c;
-    const auto v = read_vector(prm, "Lower left corner");
-    for (unsigned int d = 0; d < dim; ++d)
-      c[d] = v[d];
-    corner = c;
-    bottom = read_vector(prm, "Bottom unit vector");
-    normal = read_vector(prm, "Normal");
+    corner = get_point(prm, "Lower left corner");
+    bottom = get_point(prm, "Bottom unit vector");
+    normal = get_point(prm, "Normal");
     AssertThrow(bottom.norm() > 0 && normal.norm() > 0,
                 ExcMessage(path + ": Bottom unit vector and Normal must not be zero"));
     bottom /= bottom.norm();

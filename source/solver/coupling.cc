@@ -98,18 +98,9 @@ namespace perideal
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       alpha.local_element(i) = point_alpha[i];
     alpha.update_ghost_values();
-    std::size_t kept = 0;
-    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      {
-        const std::size_t begin = bonds.offsets[i], end = bonds.offsets[i + 1];
-        bonds.offsets[i]        = kept;
-        for (std::size_t b = begin; b < end; ++b)
-          if (point_alpha[i] > 0 || alpha.local_element(bonds.neighbor[b]) > 0)
-            bonds.neighbor[kept++] = bonds.neighbor[b];
-      }
-    bonds.offsets[cloud.n_owned()] = kept;
-    bonds.neighbor.resize(kept);
-    bonds.neighbor.shrink_to_fit();
+    bonds.keep_if(cloud.n_owned(), [&](const unsigned int i, const unsigned int j) {
+      return point_alpha[i] > 0 || alpha.local_element(j) > 0;
+    });
   }
 
   void
@@ -138,6 +129,15 @@ namespace perideal
     node_density.resize(continuum->nodes.size());
     for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
       node_density[k] = blocks[block_of_cell(continuum->nodes[k].cell)].elasticity->rho;
+  }
+
+  std::vector<std::uint8_t>
+  Simulation::fe_prescribed_flags() const
+  {
+    std::vector<std::uint8_t> flags(continuum->U.locally_owned_size(), 0);
+    for (const auto &c : node_constraints)
+      flags[continuum->nodes[c.node].local] = 1;
+    return flags;
   }
 
   void

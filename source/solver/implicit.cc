@@ -176,13 +176,9 @@ namespace perideal
         for (unsigned int k = 0; k < dim * n_owned; ++k)
           if (!constrained_dofs[k] && !is_virtual(k / dim))
             pd_free.push_back(k);
-        std::vector<std::uint8_t> fe_prescribed(continuum->F.locally_owned_size(), 0);
+        const std::vector<std::uint8_t> fe_prescribed = fe_prescribed_flags();
         for (const auto &c : node_constraints)
-          {
-            const auto &node = continuum->nodes[c.node];
-            fe_prescribed[node.local] = 1;
-            prescribed.emplace_back(node.x, node.component);
-          }
+          prescribed.emplace_back(continuum->nodes[c.node].x, continuum->nodes[c.node].component);
         for (const unsigned int l : continuum->free)
           if (!fe_prescribed[l])
             fe_free.push_back(l);
@@ -770,9 +766,7 @@ namespace perideal
         fe_u_predicted.assign(continuum->U.locally_owned_size(), 0.0);
         fe_acceleration.assign(continuum->U.locally_owned_size(), 0.0);
       }
-    std::vector<std::uint8_t> fe_prescribed(has_continuum ? continuum->U.locally_owned_size() : 0, 0);
-    for (const auto &c : node_constraints)
-      fe_prescribed[continuum->nodes[c.node].local] = 1;
+    const std::vector<std::uint8_t> fe_prescribed = has_continuum ? fe_prescribed_flags() : std::vector<std::uint8_t>();
     std::vector<double> node_support_before(node_constraints.size());
 
     // The initial acceleration from the equation of motion (virtual points

@@ -636,29 +636,15 @@ namespace perideal
   Simulation::apply_bond_filters()
   {
     filtered_bonds.assign(bond_filters.size(), 0);
-    std::size_t kept = 0;
-    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      {
-        const std::size_t begin = bonds.offsets[i], end = bonds.offsets[i + 1];
-        bonds.offsets[i]        = kept;
-        const Point<dim>  x     = cloud.position(i);
-        for (std::size_t b = begin; b < end; ++b)
+    bonds.keep_if(cloud.n_owned(), [&](const unsigned int i, const unsigned int j) {
+      for (unsigned int f = 0; f < bond_filters.size(); ++f)
+        if (bond_filters[f].cuts(cloud.position(i), cloud.position(j)))
           {
-            const unsigned int j   = bonds.neighbor[b];
-            bool               cut = false;
-            for (unsigned int f = 0; f < bond_filters.size() && !cut; ++f)
-              if (bond_filters[f].cuts(x, cloud.position(j)))
-                {
-                  cut = true;
-                  ++filtered_bonds[f];
-                }
-            if (!cut)
-              bonds.neighbor[kept++] = j;
+            ++filtered_bonds[f];
+            return false;
           }
-      }
-    bonds.offsets[cloud.n_owned()] = kept;
-    bonds.neighbor.resize(kept);
-    bonds.neighbor.shrink_to_fit();
+      return true;
+    });
     Utilities::MPI::sum(filtered_bonds, comm, filtered_bonds);
   }
 
@@ -1591,13 +1577,11 @@ namespace perideal
     const std::vector<unsigned int> &fe_free = has_continuum ? continuum->free : no_dofs;
     std::vector<double>             fe_inverse_mass(fe_free.size()), U_previous(fe_free.size()),
       V_previous(fe_free.size());
-    std::vector<unsigned char> fe_constrained;
-    std::vector<int>           constrained_free; // per node constraint: index into fe_free, -1: none
+    std::vector<std::uint8_t> fe_constrained;
+    std::vector<int>          constrained_free; // per node constraint: index into fe_free, -1: none
     if (has_continuum)
       {
-        fe_constrained.assign(continuum->F.locally_owned_size(), 0);
-        for (const auto &c : node_constraints)
-          fe_constrained[continuum->nodes[c.node].local] = 1;
+        fe_constrained = fe_prescribed_flags();
         for (unsigned int j = 0; j < fe_free.size(); ++j)
           fe_inverse_mass[j] = fe_constrained[fe_free[j]] ? 0.0 : 1 / continuum->mass.local_element(fe_free[j]);
         for (unsigned int k = 0; k < node_constraints.size(); ++k)

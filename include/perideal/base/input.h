@@ -7,6 +7,7 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
 
 #include <functional>
 #include <map>
@@ -23,6 +24,10 @@ namespace perideal
   /// Comma separated list of names -> trimmed, non-empty names; duplicates are an error.
   std::vector<std::string>
   split_names(const std::string &list, const std::string &where);
+
+  /// The entry @p key of the current subsection, "x, y, z", as a point.
+  dealii::Point<3>
+  get_point(ParameterHandler &prm, const std::string &key);
 
   /// Declares the names list entry "Names" in the current subsection.
   void

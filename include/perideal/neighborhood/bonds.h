@@ -23,6 +23,26 @@ namespace perideal
     {
       return neighbor.size();
     }
+
+    /// Keeps the bonds (i, j) of the @p n_owned owned points for which
+    /// @p keep(i, j) is true, in their order; frees the rest.
+    template <typename Keep>
+    void
+    keep_if(const unsigned int n_owned, const Keep &keep)
+    {
+      std::size_t kept = 0;
+      for (unsigned int i = 0; i < n_owned; ++i)
+        {
+          const std::size_t begin = offsets[i], end = offsets[i + 1];
+          offsets[i]              = kept;
+          for (std::size_t b = begin; b < end; ++b)
+            if (keep(i, neighbor[b]))
+              neighbor[kept++] = neighbor[b];
+        }
+      offsets[n_owned] = kept;
+      neighbor.resize(kept);
+      neighbor.shrink_to_fit();
+    }
   };
 
   /// Relative tolerance of the horizon test: |xi| <= horizon * (1 + tol).

@@ -253,6 +253,9 @@ namespace perideal
     update_virtual_points();
     void
     setup_continuum();
+    /// Per owned FE DoF: 1 if a prescribed condition holds it.
+    std::vector<std::uint8_t>
+    fe_prescribed_flags() const;
     bool
     is_virtual(const unsigned int i) const
     {
