@@ -1,0 +1,683 @@
+#!/usr/bin/env python3
+"""Error against run time: convergence studies of pd_app (issue 5).
+
+Usage:
+  python3 apps/pd_study.py SCENE [options]
+
+  SCENE is one of
+    bar         static uniaxial bar, quasistatic solver; displacement error in
+                the middle of the bar and axial stiffness, against eps x / E A
+    dispersion  standing longitudinal wave (uniaxial strain), Verlet; the
+                measured angular frequency against the PD dispersion relation
+    surface     free cube under a homogeneous deformation; strain energy
+                against the continuum's (the PD surface effect)
+    fracture    a block split along a plane with rigid halves; energy of the
+                broken bonds per unit area against G_c
+
+  Each scene runs two sequences of resolutions (--seq):
+    a   h -> 0 at fixed m = delta/h = 3.015 (delta and h -> 0 together: the
+        limit is the classical, local solution)
+    b   h -> 0 at fixed delta (m = delta/h grows: the limit is the nonlocal
+        PD solution of that delta)
+  for one or more variants (--variant; models, influence functions, surface
+  correction, partial volumes; `--list` shows them).
+
+Options:
+  --seq a,b            sequences to run (default: both)
+  --variant V1,V2      variants (default: the scene's default list)
+  --set SEC/KEY=VALUE  extra parameter override for every run (repeatable);
+                       SEC may contain '*' for every subsection of its parent,
+                       e.g. --set "Materials/*/Surface correction=Energy"
+  --label NAME         suffix of the series names and result files (use with --set)
+  --param KEY=VALUE    a scene parameter: MODE (dispersion, k = MODE pi), LOAD
+                       (surface: iso or uni), STEPS (fracture: load steps)
+  --quick              the coarse resolutions only (seconds; what ctest runs)
+  --np 1[,2]           MPI ranks; with two counts every case runs on both and
+                       the measured errors must agree (1e-7, round-off)
+  --check              compare with the scene's stated bands (quick
+                       resolutions); exit code 1 if a value lies outside
+  --pd-app PATH        default: build/pd_app of this repository
+  --mpirun PATH        default: mpirun on PATH
+  --work DIR           where the runs go (default build/verification)
+  --results DIR        where the tables and plot go (default doc/verification)
+  --replot             no runs: rebuild the table and PNG from the CSV in --results
+  --no-png             tables only
+  --list               print the scenes' sequences and variants and exit
+
+Writes, in --results: SCENE[-LABEL].md (markdown tables: resolution, h, delta,
+m, points, bonds, wall time, errors, observed rates log(e_i-1/e_i)/log(h_i-1/h_i)),
+SCENE[-LABEL].csv (the same numbers, for --replot) and SCENE[-LABEL].png
+(error against h and against wall time; needs matplotlib, the tables do not).
+Each run's parameter file, log and globals CSV stay in --work.
+
+The parameter files are doc/verification/SCENE.prm.in with {{PLACEHOLDERS}}
+the driver fills. pd_app is run as `mpirun -np N pd_app params.prm`; as root,
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1. In a shared
+build tree wrap the study in `flock -s /tmp/perideal-build.lock ...`.
+"""
+
+import argparse
+import csv
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TEMPLATES = os.path.join(ROOT, "doc", "verification")
+M_FIXED = 3.015  # the usual m of sequence a (a neighbour at exactly 3h is kept)
+
+
+def fmt(x, digits=4):
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return "-"
+    if isinstance(x, int):
+        return str(x)
+    if x == 0:
+        return "0"
+    if 1e-3 <= abs(x) < 1e4:
+        return "%.*g" % (digits, x)
+    return "%.*e" % (digits - 1, x)
+
+
+# ---------------------------------------------------------------- parameter files
+
+
+def fill(template, values):
+    text = open(template).read()
+    for k, v in values.items():
+        text = text.replace("{{%s}}" % k, str(v))
+    left = re.findall(r"{{\w+}}", text)
+    if left:
+        raise SystemExit("pd_study: placeholders not filled in %s: %s" % (template, ", ".join(sorted(set(left)))))
+    return text
+
+
+def sections(lines):
+    """(path tuple, index of the 'subsection' line or -1, index of its 'end') of every section."""
+    out, stack = [((), -1, len(lines))], []
+    for i, line in enumerate(lines):
+        s = line.split("#")[0].strip()
+        if s.startswith("subsection "):
+            stack.append((s[len("subsection "):].strip(), i))
+        elif s == "end" and stack:
+            name, start = stack.pop()
+            out.append((tuple(n for n, _ in stack) + (name,), start, i))
+    return out
+
+
+def override(text, assignment):
+    """Apply 'Sec/Sub/key=value' to a parameter file: replace the key's value
+    where the section sets it, otherwise add the line (and the subsections
+    that are missing). '*' matches any one subsection name."""
+    if "=" not in assignment or "/" not in assignment.split("=")[0]:
+        raise SystemExit("pd_study: --set takes SECTION/KEY=VALUE, got '%s'" % assignment)
+    path, value = assignment.split("=", 1)
+    parts = [p.strip() for p in path.split("/")]
+    secs, key, value = parts[:-1], parts[-1], value.strip()
+    lines = text.split("\n")
+
+    def match(p):
+        return len(p) == len(secs) and all(s == "*" or s == q for s, q in zip(secs, p))
+
+    blocks = [b for b in sections(lines) if match(b[0])]
+    if not blocks:
+        if "*" in secs:
+            raise SystemExit("pd_study: --set %s: no section matches" % assignment)
+        # Create the missing subsections under the deepest existing one.
+        known = {b[0]: b for b in sections(lines)}
+        depth = max(d for d in range(len(secs) + 1) if tuple(secs[:d]) in known)
+        parent = known[tuple(secs[:depth])]
+        ind = "  " * depth
+        new = []
+        for d in range(depth, len(secs)):
+            new.append("  " * d + "subsection " + secs[d])
+        new.append("  " * len(secs) + "set %s = %s" % (key, value))
+        for d in reversed(range(depth, len(secs))):
+            new.append("  " * d + "end")
+        at = parent[1] + 1 if parent[1] >= 0 else len(lines)
+        del ind
+        return "\n".join(lines[:at] + new + lines[at:])
+    # Replace or insert, last block first so that indices stay valid.
+    for p, start, end in sorted(blocks, key=lambda b: -b[1]):
+        depth, i, done = 0, start + 1, False
+        while i < end:
+            s = lines[i].split("#")[0].strip()
+            if s.startswith("subsection "):
+                depth += 1
+            elif s == "end":
+                depth -= 1
+            elif depth == 0 and re.match(r"set\s+%s\s*=" % re.escape(key), s):
+                lines[i] = re.sub(r"=.*", "= " + value, lines[i].split("#")[0])
+                done = True
+            i += 1
+        if not done:
+            lines.insert(start + 1, "  " * len(p) + "set %s = %s" % (key, value))
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------- running pd_app
+
+
+def parse_summary(log):
+    def get(key):
+        m = re.search(r"^  " + key + r":\s+(.*)$", log, re.M)
+        return m.group(1) if m else ""
+
+    m = re.match(r"(?:(\d+) min )?([\d.]+) s", get("wall time"))
+    wall = (int(m.group(1) or 0) * 60 + float(m.group(2))) if m else float("nan")
+    points = get("points").split()
+    bonds = get("bonds").split()
+    return dict(points=int(points[0]) if points else 0, bonds=int(bonds[0]) if bonds else 0, wall=wall)
+
+
+def run_case(args, scene, case, np_):
+    d = os.path.join(args.work, scene.name, case["series"], "r%s" % case["res"], "np%d" % np_)
+    if os.path.isdir(d):
+        shutil.rmtree(d)
+    os.makedirs(d)
+    text = fill(os.path.join(TEMPLATES, scene.name + ".prm.in"), case["values"])
+    for a in case["overrides"]:
+        text = override(text, a)
+    open(os.path.join(d, "params.prm"), "w").write(text)
+    cmd = [args.mpirun, "-np", str(np_), args.pd_app, "params.prm"]
+    p = subprocess.run(cmd, cwd=d, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+    open(os.path.join(d, "log"), "w").write(p.stdout)
+    if p.returncode != 0:
+        tail = "\n".join(p.stdout.strip().split("\n")[-15:])
+        raise SystemExit("pd_study: pd_app failed (exit %d) in %s:\n%s" % (p.returncode, d, tail))
+    rows = list(csv.DictReader(open(os.path.join(d, "output", case["values"]["NAME"] + ".globals.csv"))))
+    r = parse_summary(p.stdout)
+    r["measures"] = scene.measure(case, [{k: float(v) for k, v in row.items()} for row in rows])
+    return r
+
+
+# ---------------------------------------------------------------- references
+
+
+def pmb_dispersion_omega2(k, delta, K=1.0, rho=1.0):
+    """omega^2 of a plane longitudinal wave u = e_x cos(k x) in an unbounded
+    PMB body (uniaxial strain):
+      rho omega^2 = int_{|xi|<delta} c/|xi| (xi_x/|xi|)^2 (1 - cos(k xi_x)) dV,
+    c = 18 K/(pi delta^4). With xi_x = r mu, dV = 2 pi r^2 dr dmu:
+      = 2 pi c int_0^delta r J(k r) dr,  J(a) = int_-1^1 mu^2 (1 - cos(a mu)) dmu
+      J(a) = 2/3 - 2 ((a^2 - 2) sin a + 2 a cos a)/a^3 (series for small a).
+    Long waves: J ~ a^2/5, rho omega^2 = c pi delta^4 k^2/10 = 9K/5 k^2, the
+    P-wave modulus lambda + 2 mu of nu = 1/4."""
+    c = 18 * K / (math.pi * delta ** 4)
+
+    def J(a):
+        if a < 0.3:  # sum_n (-1)^(n+1) a^2n/(2n)! 2/(2n+3), cancellation-free
+            return sum((-1) ** (n + 1) * a ** (2 * n) / math.factorial(2 * n) * 2 / (2 * n + 3) for n in range(1, 8))
+        return 2.0 / 3 - 2 * ((a * a - 2) * math.sin(a) + 2 * a * math.cos(a)) / a ** 3
+
+    n = 2000  # Simpson on [0, delta]: smooth integrand, error ~1e-13
+    s = sum((1 if i in (0, n) else 4 if i % 2 else 2) * (delta * i / n) * J(k * delta * i / n) for i in range(n + 1))
+    return 2 * math.pi * c * s * delta / n / 3 / rho
+
+
+def lattice_fracture_energy(ny, half, h, delta, gc, K=1.0):
+    """The fracture energy the fracture scene's lattice would dissipate with
+    infinitely many load steps: every bond across the cut breaks at s_c and
+    takes its energy c s_c^2 |xi| / 2 V_i V_j (per pair) with it. Points at
+    the centroids of a (2 half) x ny x ny grid of spacing h, cut between
+    layers half - 1 and half; an offset (dx, dy, dz), dx >= 1, crosses the cut
+    for dx (ny - |dy|) (ny - |dz|) pairs. Divided by the area (ny h)^2."""
+    c = 18 * K / (math.pi * delta ** 4)
+    sc2 = 5 * gc / (9 * K * delta)
+    M = int(delta / h) + 1
+    total = 0.0
+    for dx in range(1, min(M, half) + 1):
+        for dy in range(-M, M + 1):
+            for dz in range(-M, M + 1):
+                r = h * math.sqrt(dx * dx + dy * dy + dz * dz)
+                if r <= delta * (1 + 1e-9) and abs(dy) < ny and abs(dz) < ny:
+                    total += dx * (ny - abs(dy)) * (ny - abs(dz)) * 0.5 * c * sc2 * r * h ** 6
+    return total / (ny * h) ** 2
+
+
+# ---------------------------------------------------------------- scenes
+#
+# A scene: the template's placeholders per resolution (values), the
+# resolutions of each sequence, the variants (parameter overrides), what is
+# measured (measure: list of (name, value, is_error); the first error is the
+# one plotted and checked) and the bands of --check.
+
+LPS = ["Materials/solid/Model=LPS", "Materials/solid/Shear modulus=0.6"]
+PV = "Discretization/Partial volumes=true"
+SC = "Materials/solid/Surface correction=Energy"
+
+
+class Bar:
+    name = "bar"
+    what = "static uniaxial bar 1 x 0.2 x 0.2, quasistatic, grips x < 0.25 and x > 0.75"
+    resolutions = {"a": [4, 6, 8, 12], "b": [4, 6, 8, 10]}  # points across the bar (NY)
+    quick = {"a": [4, 6], "b": [4, 6]}
+    delta_b = 0.1
+    eps, E, nu, area = 1e-5, 1.5, 0.25, 0.04
+    variants = {
+        "pmb": ([], "PMB"),
+        "pmb-energy": ([SC], "PMB, Surface correction = Energy"),
+        "lps": (LPS, "LPS, G = 0.6 (nu = 1/4), influence 1"),
+        "pmb-pv": ([PV], "PMB, partial volumes"),
+    }
+    default = ["pmb", "pmb-energy", "lps"]
+    # LPS's tangent couples a point to its neighbours' families (2 delta):
+    # at ny = 10-12 it has 10^8 nonzeros; stop at ny = 8.
+    max_res = {"lps": 8}
+
+    def values(self, seq, ny):
+        h = 0.2 / ny
+        delta = M_FIXED * h if seq == "a" else self.delta_b
+        return h, delta, dict(NX=5 * ny, NY=ny, HORIZON="%.10g" % delta, EPS=self.eps, NU=self.nu)
+
+    def measure(self, case, rows):
+        last = rows[-1]
+        f = self.E * self.area * self.eps
+        return [("u_err", last["u_err"] / (self.eps * 0.1), True), ("stiffness_err", abs(last["reaction_rx"] - f) / f, True),
+                ("F/EAeps-1", last["reaction_rx"] / f - 1, False)]
+
+    # Bands for --check on the quick resolutions (ny = 4, 6), from the
+    # measured values with a margin; see doc/verification.md.
+    # Bands of --check on the quick resolutions (ny = 4, 6; measured: u_err
+    # 0.0059, 0.0039; F/EAeps - 1 = -0.325, -0.232 (a), -0.042, -0.216 (b)).
+    checks = [
+        ("a", "pmb", "u_err", 1, 0.0, 0.01, "middle of the bar: strain within 1% of eps"),
+        ("a", "pmb", "rate:u_err", 1, 0.6, 1.4, "u_err ~ delta at fixed m"),
+        ("a", "pmb", "F/EAeps-1", 1, -0.28, -0.18, "PD bar softer: the free long faces, O(delta/W)"),
+        ("a", "pmb", "rate:stiffness_err", 1, 0.5, 1.2, "stiffness error ~ delta at fixed m"),
+        ("b", "pmb", "F/EAeps-1", 1, -0.26, -0.17, "fixed delta = W/2: no convergence to E A eps"),
+    ]
+
+
+class Dispersion:
+    name = "dispersion"
+    what = "standing wave u_x = cos(k x) in a bar 1 x 0.2 x 0.2 with u_y = u_z = 0 (uniaxial strain), Verlet"
+    resolutions = {"a": [4, 6, 8, 12], "b": [4, 6, 8, 10]}
+    quick = {"a": [4, 6], "b": [4, 6]}
+    delta_b = 0.1
+    variants = {
+        "pmb": ([], "PMB, k = pi"),
+        "pmb-energy": ([SC], "PMB, Surface correction = Energy, k = pi"),
+        "pmb-k3": (["@MODE=3"], "PMB, k = 3 pi"),
+        "pmb-energy-k3": ([SC, "@MODE=3"], "PMB, Surface correction = Energy, k = 3 pi"),
+        "pmb-pv": ([PV], "PMB, partial volumes, k = pi"),
+    }
+    default = ["pmb", "pmb-energy", "pmb-energy-k3"]
+
+    def values(self, seq, ny, mode=1):
+        h = 0.2 / ny
+        delta = M_FIXED * h if seq == "a" else self.delta_b
+        k = mode * math.pi
+        period = 2 * math.pi / math.sqrt(pmb_dispersion_omega2(k, delta))
+        # Two zero crossings of the probe (T/4 and 3T/4) with room for a
+        # frequency up to 25% below the reference.
+        return h, delta, dict(NX=5 * ny, NY=ny, HORIZON="%.10g" % delta, K="%.15g" % k, FINAL="%.6g" % (1.3 * period),
+                              MODE=mode)
+
+    def measure(self, case, rows):
+        k, delta = float(case["values"]["K"]), float(case["values"]["HORIZON"])
+        t, q = [r["time"] for r in rows], [r["probe"] for r in rows]
+        cross = [t[i - 1] + (t[i] - t[i - 1]) * q[i - 1] / (q[i - 1] - q[i]) for i in range(1, len(q))
+                 if (q[i - 1] > 0) != (q[i] > 0)]
+        if len(cross) < 2:
+            raise SystemExit("pd_study: dispersion: fewer than two zero crossings by t = %g" % t[-1])
+        omega = math.pi / (cross[1] - cross[0])
+        w_pd = math.sqrt(pmb_dispersion_omega2(k, delta))
+        w_cl = math.sqrt(1.8) * k
+        return [("omega_err", abs(omega / w_pd - 1), True), ("omega/omega_PD-1", omega / w_pd - 1, False),
+                ("omega_PD/omega_cl-1", w_pd / w_cl - 1, False)]
+
+    # Bands on the quick resolutions (ny = 4, 6; measured omega/omega_PD - 1:
+    # -0.172, -0.109 (pmb), +0.157, +0.088 (pmb-energy)).
+    checks = [
+        ("a", "pmb", "omega/omega_PD-1", 1, -0.14, -0.08, "free long faces: the mode is softer, O(delta/W)"),
+        ("a", "pmb", "rate:omega_err", 1, 0.8, 1.5, "omega error ~ delta at fixed m"),
+        ("a", "pmb-energy", "omega/omega_PD-1", 1, 0.06, 0.12, "the energy correction overshoots the axial stiffness"),
+    ]
+
+
+class Surface:
+    name = "surface"
+    what = "free unit cube, homogeneous deformation set at t = 0, strain energy"
+    resolutions = {"a": [5, 10, 15, 20], "b": [10, 15, 20, 25]}  # points along an edge (N)
+    quick = {"a": [5, 10], "b": [10, 15]}
+    delta_b = 0.2
+    eps, K, G = 1e-4, 1.0, 0.6
+    loads = {"iso": ("%g*(x - 0.5)", "%g*(y - 0.5)", "%g*(z - 0.5)"), "uni": ("%g*(x - 0.5)", "0", "0")}
+    variants = {
+        "pmb-iso": (["@LOAD=iso"], "PMB, isotropic expansion"),
+        "pmb-energy-iso": ([SC, "@LOAD=iso"], "PMB, Surface correction = Energy, isotropic expansion"),
+        "pmb-uni": (["@LOAD=uni"], "PMB, uniaxial strain u_x = eps x"),
+        "pmb-energy-uni": ([SC, "@LOAD=uni"], "PMB, Surface correction = Energy, uniaxial strain"),
+        "lps-1-uni": (LPS + ["@LOAD=uni"], "LPS, influence 1, uniaxial strain"),
+        "lps-invr-uni": (LPS + ["Materials/solid/Influence function=1/r", "@LOAD=uni"], "LPS, influence 1/r, uniaxial strain"),
+        "lps-gauss-uni": (LPS + ["Materials/solid/Influence function=exp(-(r/0.5)^2)", "@LOAD=uni"],
+                          "LPS, influence exp(-(r/0.5)^2), uniaxial strain"),
+        "lps-energy-uni": (LPS + [SC, "@LOAD=uni"], "LPS, Surface correction = Energy, uniaxial strain"),
+        "pmb-pv-uni": ([PV, "@LOAD=uni"], "PMB, partial volumes, uniaxial strain"),
+        "pmb-energy-pv-uni": ([SC, PV, "@LOAD=uni"], "PMB, partial volumes + energy correction, uniaxial strain"),
+        "lps-pv-uni": (LPS + [PV, "@LOAD=uni"], "LPS, partial volumes, uniaxial strain"),
+    }
+    default = ["pmb-iso", "pmb-energy-iso", "pmb-uni", "pmb-energy-uni", "lps-1-uni", "lps-invr-uni", "lps-gauss-uni"]
+
+    def values(self, seq, n, load="iso"):
+        h = 1.0 / n
+        delta = M_FIXED * h if seq == "a" else self.delta_b
+        ux, uy, uz = (e % self.eps if "%" in e else e for e in self.loads[load])
+        return h, delta, dict(N=n, HORIZON="%.10g" % delta, UX=ux, UY=uy, UZ=uz, LOAD=load)
+
+    def measure(self, case, rows):
+        w = [r for r in rows if r["step"] == 0][0]["strain_energy"]
+        if case["values"]["LOAD"] == "iso":
+            ref = 4.5 * self.K * self.eps ** 2
+        else:
+            ref = (self.K / 2 + 2 * self.G / 3) * self.eps ** 2
+        return [("energy_err", abs(w / ref - 1), True), ("W/W_cont-1", w / ref - 1, False)]
+
+    # Bands on the quick resolutions (N = 5, 10; measured W/W_cont - 1:
+    # -0.544, -0.263 (pmb-iso), 0 (pmb-energy-iso), -0.012, -0.039 (lps-1-uni)).
+    checks = [
+        ("a", "pmb-iso", "W/W_cont-1", 1, -0.30, -0.22, "10^3 cube: surface layers and lattice sum"),
+        ("a", "pmb-iso", "rate:energy_err", 1, 0.8, 1.3, "energy deficit ~ surface layer volume ~ delta"),
+        ("a", "pmb-energy-iso", "energy_err", 0, 0.0, 1e-8, "exact by construction, N = 5 (CSV digits)"),
+        ("a", "pmb-energy-iso", "energy_err", 1, 0.0, 1e-8, "exact by construction, N = 10"),
+        ("a", "lps-1-uni", "W/W_cont-1", 1, -0.06, -0.02, "LPS, uniaxial strain: small surface deficit"),
+        ("a", "lps-invr-uni", "same:pmb-energy-uni:W/W_cont-1", 1, -1e-6, 1e-6,
+         "LPS with 1/r at nu = 1/4 has PMB-with-energy-correction's energy (doc/verification.md)"),
+    ]
+
+
+class Fracture:
+    name = "fracture"
+    what = "block LX x 0.5 x 0.5 split at x = LX/2, rigid halves, energy of the broken bonds / area"
+    resolutions = {"a": [10, 15, 20, 30], "b": [10, 15, 20, 25]}  # points across (NY); h = 0.5/NY
+    quick = {"a": [10, 15], "b": [10, 15]}
+    delta_b = 0.1
+    gc, steps = 1e-4, 300  # 300 -> 900 steps moves G by < 0.5% (doc/verification.md)
+    variants = {
+        "pmb": ([], "PMB, critical stretch from G_c"),
+        "pmb-pv": ([PV], "PMB, partial volumes"),
+    }
+    default = ["pmb"]
+
+    def values(self, seq, ny, steps=None):
+        steps = steps or self.steps
+        h = 0.5 / ny
+        delta = M_FIXED * h if seq == "a" else self.delta_b
+        half = int(math.ceil(delta / h - 1e-9))
+        sc = math.sqrt(5 * self.gc / (9 * delta))
+        # exponential opening: first breaks (d ~ s_c h) near t = 0.2, relative
+        # increment RATE/STEPS per step; the full opening delta breaks every
+        # crossing bond (stretch of the most oblique one ~ 1/2 + h/delta).
+        rate = math.log(delta / (0.3 * sc * h))
+        return h, delta, dict(NX=2 * half, NY=ny, LX="%.10g" % (2 * half * h), HORIZON="%.10g" % delta, GC=self.gc,
+                              OPEN="%.10g" % delta, RATE="%.6g" % rate, STEPS=steps, DT="%.10g" % (1.0 / steps))
+
+    def measure(self, case, rows):
+        last = rows[-1]
+        g = (last["external_work"] - last["strain_energy"] - last["kinetic_energy"]) / 0.25
+        v = case["values"]
+        h, delta = 0.5 / v["NY"], float(v["HORIZON"])
+        g_lat = lattice_fracture_energy(v["NY"], v["NX"] // 2, h, delta, self.gc)
+        return [("G_err", abs(g / self.gc - 1), True), ("G/G_c-1", g / self.gc - 1, False),
+                ("G_lattice/G_c-1", g_lat / self.gc - 1, False), ("G/G_lattice-1", g / g_lat - 1, False),
+                ("broken", int(last["broken_bonds"]), False), ("E_s left", last["strain_energy"] / (self.gc * 0.25), False)]
+
+    # Bands on the quick resolutions (ny = 10, 15; measured G/G_c - 1:
+    # -0.115, -0.036 (a), -0.213, -0.018 (b); against the lattice sum of
+    # the same points +0.002, +0.005, +0.007, -0.002).
+    checks = [
+        ("a", "pmb", "G/G_lattice-1", 0, -0.01, 0.01, "damage + work accounting = the bond energies, 300 steps"),
+        ("a", "pmb", "G/G_lattice-1", 1, -0.01, 0.01, "the same, ny = 15"),
+        ("b", "pmb", "G/G_lattice-1", 1, -0.01, 0.01, "the same, m = 3"),
+        ("a", "pmb", "G/G_c-1", 1, -0.07, -0.01, "m = 3: lattice sum and edges a few % low"),
+    ]
+
+
+SCENES = {s.name: s for s in (Bar(), Dispersion(), Surface(), Fracture())}
+
+
+# ---------------------------------------------------------------- study
+
+
+def cases(args, scene, seq, variant):
+    overrides, _ = scene.variants[variant]
+    params = dict(a.split("=", 1) for a in overrides + ["@" + q for q in args.param] if a.startswith("@"))
+    extra = {"MODE": "mode", "LOAD": "load", "STEPS": "steps"}
+    kw = {extra[k[1:]]: (int(v) if k[1:] in ("MODE", "STEPS") else v) for k, v in params.items()}
+    series = "%s-%s%s" % (seq, variant, "-" + args.label if args.label else "")
+    out = []
+    top = min([n for p, n in getattr(scene, "max_res", {}).items() if variant.startswith(p)] or [10 ** 9])
+    for res in [r for r in (scene.quick if args.quick else scene.resolutions)[seq] if r <= top]:
+        h, delta, values = scene.values(seq, res, **kw)
+        values["NAME"] = scene.name
+        out.append(dict(series=series, seq=seq, variant=variant, res=res, h=h, delta=delta, values=values,
+                        overrides=[a for a in overrides if not a.startswith("@")] + args.set))
+    return out
+
+
+def rate(e0, e1, h0, h1):
+    if not (e0 > 0 and e1 > 0):
+        return float("nan")
+    return math.log(e0 / e1) / math.log(h0 / h1)
+
+
+def add_rates(rows):
+    for i, r in enumerate(rows):
+        for name in r["errors"]:
+            prev = rows[i - 1] if i and rows[i - 1]["series"] == r["series"] else None
+            r["rate_" + name] = rate(prev[name], r[name], prev["h"], r["h"]) if prev else float("nan")
+
+
+def write_tables(args, scene, rows, base):
+    fields = ["series", "seq", "variant", "res", "h", "delta", "m", "points", "bonds", "wall"]
+    names = [n for n in rows[0]["order"]]
+    errors = [n for n in names if n in rows[0]["errors"]]
+    with open(base + ".csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(fields + names + ["errors"])
+        for r in rows:
+            w.writerow([r[k] for k in fields] + [repr(r[n]) for n in names] + [" ".join(r["errors"])])
+    lines = ["<!-- written by apps/pd_study.py %s; do not edit -->" % scene.name, ""]
+    series = []
+    for r in rows:
+        if r["series"] not in series:
+            series.append(r["series"])
+    for s in series:
+        sr = [r for r in rows if r["series"] == s]
+        seq, variant = sr[0]["seq"], sr[0]["variant"]
+        desc = scene.variants[variant][1] if variant in scene.variants else variant
+        how = "h -> 0 at m = delta/h = %g" % M_FIXED if seq == "a" else "h -> 0 at delta = %g" % scene.delta_b
+        lines += ["**%s**: %s; %s" % (s, desc, how), ""]
+        head = ["res", "h", "delta", "m", "points", "bonds", "wall [s]"]
+        for n in names:
+            head += [n] + (["rate"] if n in errors else [])
+        lines.append("| " + " | ".join(head) + " |")
+        lines.append("|" + "---:|" * len(head))
+        for r in sr:
+            cells = [str(r["res"]), fmt(r["h"]), fmt(r["delta"]), fmt(r["m"], 3), str(r["points"]), str(r["bonds"]),
+                     fmt(r["wall"], 3)]
+            for n in names:
+                cells.append(fmt(r[n], 3))
+                if n in errors:
+                    cells.append(fmt(r["rate_" + n], 2))
+            lines.append("| " + " | ".join(cells) + " |")
+        lines.append("")
+    open(base + ".md", "w").write("\n".join(lines))
+    print("\n".join(lines))
+    print("pd_study: wrote %s.md and %s.csv" % (base, base))
+
+
+def read_csv(base):
+    rows = []
+    for raw in csv.DictReader(open(base + ".csv")):
+        r = dict(series=raw["series"], seq=raw["seq"], variant=raw["variant"], res=int(raw["res"]), h=float(raw["h"]),
+                 delta=float(raw["delta"]), m=float(raw["m"]), points=int(raw["points"]), bonds=int(raw["bonds"]),
+                 wall=float(raw["wall"]), errors=raw["errors"].split())
+        skip = set(r) | {"errors"}
+        r["order"] = [k for k in raw if k not in skip]
+        for k in r["order"]:
+            r[k] = float(raw[k])
+        rows.append(r)
+    add_rates(rows)
+    return rows
+
+
+def plot(scene, rows, base):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("pd_study: matplotlib is not available for %s: tables written, no PNG. Draw it with "
+              "`/usr/bin/python3 apps/pd_study.py %s --replot ...` (or install python3-matplotlib)."
+              % (sys.executable, scene.name))
+        return
+    err = rows[0]["errors"][0]
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    series = []
+    for r in rows:
+        if r["series"] not in series:
+            series.append(r["series"])
+    for s in series:
+        sr = [r for r in rows if r["series"] == s and r[err] > 0]
+        if not sr:
+            continue
+        style = "o-" if sr[0]["seq"] == "a" else "s--"
+        ax[0].loglog([r["h"] for r in sr], [r[err] for r in sr], style, label=s)
+        ax[1].loglog([r["wall"] for r in sr], [r[err] for r in sr], style, label=s)
+    ax[0].set_xlabel("h")
+    ax[1].set_xlabel("wall time [s]")
+    for a in ax:
+        a.set_ylabel(err)
+        a.grid(True, which="both", alpha=0.3)
+    ax[0].invert_xaxis()
+    ax[1].legend(fontsize=7)
+    fig.suptitle("%s: a = fixed m = %g (o-), b = fixed delta (s--)" % (scene.name, M_FIXED), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(base + ".png", dpi=90)
+    print("pd_study: wrote %s.png" % base)
+
+
+def check(scene, rows, label):
+    """The scene's bands on the quick resolutions; returns the number of
+    failures. A check is (seq, variant, quantity, index of the resolution,
+    low, high, why); quantity is a measure, 'rate:MEASURE' (the observed rate
+    from the resolution before), or 'same:VARIANT:MEASURE' (relative
+    difference to another variant's value)."""
+    failures = 0
+    sfx = "-" + label if label else ""
+    for seq, variant, what, index, lo, hi, why in scene.checks:
+        sr = [r for r in rows if r["series"] == "%s-%s%s" % (seq, variant, sfx)]
+        if len(sr) <= index:
+            continue
+        r = sr[index]
+        if what.startswith("rate:"):
+            v = r["rate_" + what[5:]]
+        elif what.startswith("same:"):
+            _, other, name = what.split(":")
+            o = [q for q in rows if q["series"] == "%s-%s%s" % (seq, other, sfx)]
+            if len(o) <= index:
+                continue
+            v = r[name] / o[index][name] - 1
+        else:
+            v = r[what]
+        ok = lo <= v <= hi
+        failures += not ok
+        print("check %s-%s res %s: %s = %s in [%g, %g]  %s  (%s)"
+              % (seq, variant, r["res"], what, fmt(v, 4), lo, hi, "PASS" if ok else "FAIL", why))
+    return failures
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("scene", choices=sorted(SCENES))
+    ap.add_argument("--seq", default="a,b")
+    ap.add_argument("--variant", default="")
+    ap.add_argument("--set", action="append", default=[])
+    ap.add_argument("--label", default="")
+    ap.add_argument("--param", action="append", default=[])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--np", default="1")
+    ap.add_argument("--check", action="store_true")
+    ap.add_argument("--pd-app", default=os.path.join(ROOT, "build", "pd_app"))
+    ap.add_argument("--mpirun", default=shutil.which("mpirun") or "mpirun")
+    ap.add_argument("--work", default=os.path.join(ROOT, "build", "verification"))
+    ap.add_argument("--results", default=TEMPLATES)
+    ap.add_argument("--replot", action="store_true")
+    ap.add_argument("--no-png", action="store_true")
+    ap.add_argument("--list", action="store_true")
+    args = ap.parse_args()
+    scene = SCENES[args.scene]
+    if args.list:
+        for seq in ("a", "b"):
+            print("seq %s: resolutions %s (quick %s)" % (seq, scene.resolutions[seq], scene.quick[seq]))
+        for v, (o, d) in scene.variants.items():
+            print("variant %-18s %s%s  %s" % (v, d, " (default)" if v in scene.default else "", o))
+        return 0
+    base = os.path.join(args.results, scene.name + ("-" + args.label if args.label else "") + ("-quick" if args.quick else ""))
+    os.makedirs(args.results, exist_ok=True)
+    if args.replot:
+        rows = read_csv(base)
+        write_tables(args, scene, rows, base)
+        if not args.no_png:
+            plot(scene, rows, base)
+        return 0
+
+    args.pd_app = os.path.abspath(args.pd_app)
+    args.work = os.path.abspath(args.work)
+    nps = [int(n) for n in args.np.split(",")]
+    variants = args.variant.split(",") if args.variant else scene.default
+    for v in variants:
+        if v not in scene.variants:
+            raise SystemExit("pd_study: unknown variant '%s' of %s (--list)" % (v, scene.name))
+    # Variants and --set keys pd_app does not know yet are reported and skipped
+    # (e.g. partial volumes while they are being added), not failed.
+    known = subprocess.run([args.pd_app, "--print-parameters"], stdout=subprocess.PIPE, universal_newlines=True).stdout
+
+    def key_known(a):
+        key = a.split("=")[0].split("/")[-1].strip()
+        return re.search(r"^\s*set %s\s*=" % re.escape(key), known, re.M) is not None
+
+    rows, failures = [], 0
+    for seq in args.seq.split(","):
+        for v in variants:
+            missing = [a for a in scene.variants[v][0] + args.set if not a.startswith("@") and not key_known(a)]
+            if missing:
+                print("pd_study: %s %s skipped: pd_app has no parameter %s" % (seq, v, ", ".join(missing)))
+                continue
+            for case in cases(args, scene, seq, v):
+                results = [run_case(args, scene, case, n) for n in nps]
+                r0 = results[0]
+                for n, r in zip(nps[1:], results[1:]):
+                    for (name, a, is_err), (_, b, _) in zip(r0["measures"], r["measures"]):
+                        if is_err and abs(a - b) > 1e-7 * max(1.0, abs(a)):
+                            print("FAIL %s res %s: %s on %d ranks %r, on %d ranks %r" % (case["series"], case["res"], name,
+                                                                                       nps[0], a, n, b))
+                            failures += 1
+                row = dict(series=case["series"], seq=seq, variant=v, res=case["res"], h=case["h"], delta=case["delta"],
+                           m=case["delta"] / case["h"], points=r0["points"], bonds=r0["bonds"], wall=r0["wall"],
+                           order=[m[0] for m in r0["measures"]], errors=[m[0] for m in r0["measures"] if m[2]])
+                for name, val, _ in r0["measures"]:
+                    row[name] = val
+                rows.append(row)
+                print("pd_study: %s %-16s res %-3s points %-7d bonds %-9d wall %-7s %s" % (
+                    scene.name, case["series"], case["res"], row["points"], row["bonds"], fmt(row["wall"], 3),
+                    "  ".join("%s %s" % (m[0], fmt(m[1], 4)) for m in r0["measures"])), flush=True)
+    if not rows:
+        raise SystemExit("pd_study: nothing was run")
+    add_rates(rows)
+    write_tables(args, scene, rows, base)
+    if not args.no_png:
+        plot(scene, rows, base)
+    if args.check:
+        failures += check(scene, rows, args.label)
+        print("pd_study: %s" % ("ALL CHECKS PASSED" if failures == 0 else "%d CHECK(S) FAILED" % failures))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
