@@ -18,8 +18,10 @@ namespace perideal
   namespace
   {
     // What travels to a neighboring rank for one ghost point, as doubles
-    // (all integers involved are exact in a double): gid, x, volume, block, key.
+    // (all integers involved are exact in a double): gid, x, volume, block,
+    // key, and with the cell geometry its 8 vertices.
     constexpr unsigned int record_size = 1 + dim + 1 + 1 + 4;
+    constexpr unsigned int vertex_size = 8 * dim;
   } // namespace
 
   std::uint64_t
@@ -36,7 +38,8 @@ namespace perideal
                     const std::function<int(const CellIterator &)>          &block_of,
                     const double                                             max_horizon,
                     const MPI_Comm                                           comm,
-                    const std::function<unsigned int(const CellIterator &)> &levels_of)
+                    const std::function<unsigned int(const CellIterator &)> &levels_of,
+                    const bool                                               cell_geometry)
   {
     X.clear();
     volume.clear();
@@ -44,6 +47,16 @@ namespace perideal
     key.clear();
     gid.clear();
     cell.clear();
+    cell_vertices.clear();
+    max_cell_radius = 0;
+    const auto add_vertices = [&](const std::array<Point<dim>, 8> &v, const Point<dim> &x) {
+      for (const Point<dim> &p : v)
+        {
+          max_cell_radius = std::max(max_cell_radius, p.distance(x));
+          for (unsigned int d = 0; d < dim; ++d)
+            cell_vertices.push_back(p[d]);
+        }
+    };
 
     for (const auto &c : dof_handler.active_cell_iterators())
       if (c->is_locally_owned())
@@ -61,6 +74,13 @@ namespace perideal
               block.push_back(b);
               key.push_back(c->id().template to_binary<dim>());
               cell.push_back(c);
+              if (cell_geometry)
+                {
+                  std::array<Point<dim>, 8> v;
+                  for (unsigned int k = 0; k < 8; ++k)
+                    v[k] = c->vertex(k);
+                  add_vertices(v, x);
+                }
               continue;
             }
           // The descendants r levels down, in lexicographic order of the
@@ -88,6 +108,16 @@ namespace perideal
                     }
                   key.push_back(CellId(id.get_coarse_cell_id(), path).template to_binary<dim>());
                   cell.push_back(c);
+                  if (cell_geometry)
+                    {
+                      // The descendant's corners: the Q1 map of the lattice cell's.
+                      std::array<Point<dim>, 8> v;
+                      for (unsigned int k = 0; k < 8; ++k)
+                        v[k] = mapping.transform_unit_to_real_cell(
+                          c, Point<dim>(double(ix + (k & 1)) / n, double(iy + ((k >> 1) & 1)) / n,
+                                        double(iz + ((k >> 2) & 1)) / n));
+                      add_vertices(v, x);
+                    }
                 }
         }
     n_owned_points = volume.size();
@@ -100,6 +130,8 @@ namespace perideal
       Utilities::MPI::sum(types::global_dof_index(n_owned_points), comm);
     gid.resize(n_owned_points);
     std::iota(gid.begin(), gid.end(), first_gid);
+    if (cell_geometry)
+      max_cell_radius = Utilities::MPI::max(max_cell_radius, comm);
 
     // Nonlocal ghosts: exchange bounding boxes, send every owned point that
     // lies within the horizon of another rank's box to that rank.
@@ -122,7 +154,7 @@ namespace perideal
     const auto boxes = Utilities::MPI::all_gather(comm, box);
 
     // A small relative margin keeps points at exactly the horizon.
-    const double reach = max_horizon * (1 + 1e-6);
+    const double reach = max_horizon * (1 + 1e-6) + max_cell_radius;
     std::map<unsigned int, std::vector<double>> to_send;
     for (unsigned int r = 0; r < n_ranks; ++r)
       {
@@ -144,14 +176,18 @@ namespace perideal
                 records.push_back(block[i]);
                 for (const unsigned int k : key[i])
                   records.push_back(k);
+                if (cell_geometry)
+                  records.insert(records.end(), cell_vertices.begin() + vertex_size * i,
+                                 cell_vertices.begin() + vertex_size * (i + 1));
               }
           }
         if (!records.empty())
           to_send[r] = std::move(records);
       }
     const auto received = Utilities::MPI::some_to_some(comm, to_send);
+    const unsigned int size = record_size + (cell_geometry ? vertex_size : 0);
     for (const auto &entry : received)
-      for (std::size_t r = 0; r < entry.second.size(); r += record_size)
+      for (std::size_t r = 0; r < entry.second.size(); r += size)
         {
           const double *p = entry.second.data() + r;
           gid.push_back(static_cast<types::global_dof_index>(p[0]));
@@ -163,6 +199,8 @@ namespace perideal
           for (unsigned int c = 0; c < 4; ++c)
             k[c] = static_cast<unsigned int>(p[3 + dim + c]);
           key.push_back(k);
+          if (cell_geometry)
+            cell_vertices.insert(cell_vertices.end(), p + record_size, p + record_size + vertex_size);
         }
   }
 
@@ -190,6 +228,7 @@ namespace perideal
     std::vector<unsigned short>          block_new(n_new);
     std::vector<PointKey>                key_new(n_new);
     std::vector<types::global_dof_index> gid_new(n_new);
+    std::vector<double>                  vertices_new(cell_vertices.empty() ? 0 : vertex_size * n_new);
     for (unsigned int i = 0; i < n_old; ++i)
       if (new_index[i] != numbers::invalid_unsigned_int)
         {
@@ -200,12 +239,16 @@ namespace perideal
           block_new[j]  = block[i];
           key_new[j]    = key[i];
           gid_new[j]    = gid[i];
+          if (!vertices_new.empty())
+            std::copy(cell_vertices.begin() + vertex_size * i, cell_vertices.begin() + vertex_size * (i + 1),
+                      vertices_new.begin() + vertex_size * j);
         }
     X.swap(X_new);
     volume.swap(volume_new);
     block.swap(block_new);
     key.swap(key_new);
     gid.swap(gid_new);
+    cell_vertices.swap(vertices_new);
 
     IndexSet owned(n_global_points), ghost(n_global_points);
     owned.add_range(first_gid, first_gid + n_owned_points);

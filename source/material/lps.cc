@@ -10,6 +10,13 @@
 // with alpha = theta (3K - 5G)/m (ghosted each step) and beta = 15G/m (ghosted
 // once), the neighbor's half uses the neighbor's own moduli and weighted volume.
 // The weighted volume is that of the reference configuration (as Peridigm).
+// Surface correction (optional; Le & Bobaru, Comput. Mech. 61, 2018, energy
+// method): under pure shear u = gamma/2 (xi_q e_p + xi_p e_q) the deviatoric
+// energy density of point i is (15 G / 2 m_i) gamma^2 (S2 - S1^2/m_i), the
+// continuum's G gamma^2 / 2; a family cut by a free surface falls short, and
+// G is scaled per point by the ratio, averaged over the shears xy, yz, zx.
+// beta_i = 15 g_i G / m_i and gamma_i = (3K - 5 g_i G)/m_i keep the force the
+// derivative of the corrected energy.
 
 #include <perideal/base/expression.h>
 #include <perideal/material/material.h>
@@ -33,6 +40,13 @@ namespace perideal
                         "omega as a muparser expression in r = |xi|/horizon, e.g. "
                         "'1', '1/r', 'exp(-r*r)'. Non-constant functions are "
                         "evaluated once per bond at set-up and stored (8 bytes per bond).");
+      prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
+                        "Energy: scale each point's shear modulus by g = (m/15) / mean over the shears "
+                        "xy, yz, zx of (S2 - S1^2/m), S1 = sum_j omega xi_p xi_q V_j, S2 = sum_j omega "
+                        "xi_p^2 xi_q^2 / |xi|^2 V_j: the continuum's over the family's deviatoric energy "
+                        "density under pure shear (Le & Bobaru 2018's energy method). The dilatation "
+                        "needs none: with the weighted volume m summed over the actual family it is "
+                        "exact under any isotropic expansion. Free at run time.");
     }
 
     void
@@ -44,6 +58,7 @@ namespace perideal
       require_positive(rho, path + "/Density");
       require_positive(K, path + "/Bulk modulus");
       require_positive(G, path + "/Shear modulus");
+      surface_correction = prm.get("Surface correction") == "Energy";
       influence = std::make_unique<Expression>(prm.get("Influence function"),
                                                path + "/Influence function",
                                                0,
@@ -79,6 +94,12 @@ namespace perideal
     {
       const double *X = state.cloud.X.data();
       const double *V = state.cloud.volume.data();
+      // With partial volumes the per-bond omega carries beta_ij too: every
+      // family sum (m, theta, force, tangent, stable step) then weighs
+      // neighbor j with beta_ij V_j and nothing else changes.
+      const bool partial = !state.bonds.volume_fraction.empty();
+      if (partial)
+        constant_influence = false;
       if (!constant_influence)
         omega.assign(state.bonds.n_bonds(), 0.0);
       VectorType &m     = state.fields.get("weighted_volume");
@@ -87,7 +108,7 @@ namespace perideal
       VectorType &D     = state.fields.get("lps_coupling");
       for (const unsigned int i : points)
         {
-          double mi = 0, Ai = 0;
+          double mi = 0, Ai = 0, S1[3] = {0, 0, 0}, S2[3] = {0, 0, 0};
           for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
             {
               const unsigned int j  = state.bonds.neighbor[b];
@@ -97,24 +118,48 @@ namespace perideal
               double       w  = omega0;
               if (!constant_influence)
                 {
-                  w = influence->value(Point<dim>(r0 / horizon, 0, 0), 0);
+                  // Partial volumes add bonds up to a cell radius beyond the
+                  // horizon; they take omega at the horizon.
+                  const double r = std::min(r0 / horizon, 1.0);
+                  w = influence->value(Point<dim>(r, 0, 0), 0);
                   AssertThrow(std::isfinite(w) && w >= 0,
                               ExcMessage("LPS influence function '" + influence->text() +
-                                         "' is negative or not finite at r = " +
-                                         std::to_string(r0 / horizon)));
+                                         "' is negative or not finite at r = " + std::to_string(r)));
+                  if (partial)
+                    w *= state.bonds.volume_fraction[b];
                   omega[b] = w;
                 }
               mi += w * r0 * r0 * V[j];
               Ai += w * r0 * V[j];
+              if (surface_correction)
+                {
+                  const double e[3] = {ex, ey, ez};
+                  for (unsigned int p = 0; p < 3; ++p)
+                    {
+                      const double pq = e[p] * e[(p + 1) % 3];
+                      S1[p] += w * pq * V[j];
+                      S2[p] += w * pq * pq / (r0 * r0) * V[j];
+                    }
+                }
             }
           // m_i = 0 only for a virtual point of the FE coupling left without
           // bonds (the core stops a run with any other point without bonds):
           // it carries no energy and no force state.
           const double inverse   = mi > 0 ? 1 / mi : 0.0;
+          // Surface correction of the shear modulus (see the top).
+          double g = 1;
+          if (surface_correction && mi > 0)
+            {
+              double deficit = 0;
+              for (unsigned int p = 0; p < 3; ++p)
+                deficit += S2[p] - S1[p] * S1[p] * inverse;
+              if (deficit > 0)
+                g = 3 * mi / 15 / deficit;
+            }
           m.local_element(i)     = mi;
-          beta.local_element(i)  = 15 * G * inverse;
-          gamma.local_element(i) = (3 * K - 5 * G) * inverse;
-          D.local_element(i)     = std::abs(3 * K - 5 * G) * inverse * Ai * inverse;
+          beta.local_element(i)  = 15 * g * G * inverse;
+          gamma.local_element(i) = (3 * K - 5 * g * G) * inverse;
+          D.local_element(i)     = std::abs(3 * K - 5 * g * G) * inverse * Ai * inverse;
         }
       state.fields.get("dilatation");
     }
@@ -335,6 +380,7 @@ namespace perideal
     double                      omega0             = 1;
     std::vector<double>         omega; // per bond, only for a non-constant influence function
     bool                        energy_weighted = false; // weight_energy() scaled the fields
+    bool                        surface_correction = false;
 
     template <BondDamage mode, bool weighted>
     void
@@ -453,5 +499,5 @@ namespace perideal
 
   PERIDEAL_REGISTER(Material, LPS, "LPS",
                     "Linear peridynamic solid, state based (Peridigm's 'Elastic'). "
-                    "Keys: Density, Bulk modulus, Shear modulus, Influence function.")
+                    "Keys: Density, Bulk modulus, Shear modulus, Influence function, Surface correction.")
 } // namespace perideal

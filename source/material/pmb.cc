@@ -4,7 +4,7 @@
 //   c = 18 K / (pi delta^4),  M = (y_j - y_i) / |y_j - y_i|.
 // Poisson's ratio is 1/4 by construction, so G = 3K/5.
 // Across blocks with different micromoduli the bond uses (c_i + c_j)/2, so
-// action equals reaction.
+// action equals reaction. With partial volumes V_j is beta_ij V_j.
 // Surface correction (optional): a point whose family is cut by a free
 // surface (or whose lattice sum misses the sphere's integral) is too soft.
 // The energy method of Le & Bobaru (Comput. Mech. 61, 2018) with an
@@ -78,10 +78,9 @@ namespace perideal
         c.local_element(i) = micromodulus();
       if (!surface_correction)
         return;
-      const double *V = state.cloud.volume.data();
       for (const unsigned int i : points)
         {
-          const double sum = family_sum(state, i, [&](const unsigned int j, const double r0) { return r0 * V[j]; });
+          const double sum = family_sum(state, i, [&](unsigned int, const double r0, const double Vj) { return r0 * Vj; });
           if (sum > 0)
             c.local_element(i) *= M_PI * std::pow(horizon, 4) / sum;
         }
@@ -133,12 +132,11 @@ namespace perideal
       // Silling-Askari: dt_i = sqrt(2 rho / sum_j V_j c_ij / |xi_ij|), the
       // Gershgorin bound of the bond-based tangent.
       const VectorType &c  = state.fields.get("pmb_micromodulus");
-      const double     *V  = state.cloud.volume.data();
       double            dt = std::numeric_limits<double>::max();
       for (const unsigned int i : points)
         {
-          const double sum = family_sum(state, i, [&](const unsigned int j, const double r0) {
-            return V[j] * 0.5 * (c.local_element(i) + c.local_element(j)) / r0;
+          const double sum = family_sum(state, i, [&](const unsigned int j, const double r0, const double Vj) {
+            return Vj * 0.5 * (c.local_element(i) + c.local_element(j)) / r0;
           });
           if (sum > 0)
             dt = std::min(dt, std::sqrt(2 * rho / sum));
@@ -180,7 +178,7 @@ namespace perideal
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(X, u, i, j, xi, y);
               const double s     = (r - r0) / r0;
-              const double cv = 0.5 * (c.local_element(i) + c.local_element(j)) * V[j] * V[i];
+              const double cv = 0.5 * (c.local_element(i) + c.local_element(j)) * V[j] * state.bonds.fraction(b) * V[i];
               for (unsigned int p = 0; p < 3; ++p)
                 for (unsigned int q = 0; q < 3; ++q)
                   {
@@ -199,7 +197,8 @@ namespace perideal
     double rho = 0, K = 0;
     bool   surface_correction = false;
 
-    /// sum over the bonds of owned point @p i of f(j, |xi_ij|) (set-up loops).
+    /// sum over the bonds of owned point @p i of f(j, |xi_ij|, beta_ij V_j)
+    /// (set-up loops).
     template <typename Function>
     static double
     family_sum(const ModelState &state, const unsigned int i, const Function &f)
@@ -210,7 +209,7 @@ namespace perideal
         {
           const unsigned int j  = state.bonds.neighbor[b];
           const double       dx = X[3 * j] - X[3 * i], dy = X[3 * j + 1] - X[3 * i + 1], dz = X[3 * j + 2] - X[3 * i + 2];
-          sum += f(j, std::sqrt(dx * dx + dy * dy + dz * dz));
+          sum += f(j, std::sqrt(dx * dx + dy * dy + dz * dz), state.cloud.volume[j] * state.bonds.fraction(b));
         }
       return sum;
     }
@@ -237,13 +236,16 @@ namespace perideal
     void
     dispatch(const bool uniform, const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c) const
     {
-      if (uniform)
+      if (!state.bonds.volume_fraction.empty())
+        state.energy ? kernel<false, mode, true, true>(state, points, c) :
+                       kernel<false, mode, false, true>(state, points, c);
+      else if (uniform)
         state.energy ? kernel<true, mode, true>(state, points, c) : kernel<true, mode, false>(state, points, c);
       else
         state.energy ? kernel<false, mode, true>(state, points, c) : kernel<false, mode, false>(state, points, c);
     }
 
-    template <bool uniform_c, BondDamage mode, bool energy>
+    template <bool uniform_c, BondDamage mode, bool energy, bool partial = false>
     void
     kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
     {
@@ -258,6 +260,7 @@ namespace perideal
       const double        limit  = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
       const double       *c      = c_field.begin();
       const double        c_own  = micromodulus();
+      const float        *beta   = state.bonds.volume_fraction.data();
       double             *f      = state.force;
       std::size_t         newly_broken = 0;
 
@@ -285,12 +288,13 @@ namespace perideal
               const double s      = (r - r0) / r0;
               const double cij    = uniform_c ? c_own : 0.5 * (c[i] + c[j]);
               const double intact = mode == BondDamage::none ? 1.0 : 1.0 - damage[b];
-              const double k      = intact * cij * s * V[j] / r;
+              const double Vj     = partial ? beta[b] * V[j] : V[j];
+              const double k      = intact * cij * s * Vj / r;
               fx += k * dx;
               fy += k * dy;
               fz += k * dz;
               if (energy)
-                w += intact * 0.25 * cij * s * s * r0 * V[j];
+                w += intact * 0.25 * cij * s * s * r0 * Vj;
             }
           f[3 * i] += fx;
           f[3 * i + 1] += fy;
@@ -305,5 +309,5 @@ namespace perideal
 
   PERIDEAL_REGISTER(Material, PMB, "PMB",
                     "Prototype microelastic brittle, bond based (Peridigm's 'Elastic "
-                    "Bond Based'). Keys: Density, Bulk modulus.")
+                    "Bond Based'). Keys: Density, Bulk modulus, Surface correction.")
 } // namespace perideal

@@ -1,9 +1,11 @@
 #include <perideal/neighborhood/bonds.h>
 
 #include <deal.II/base/bounding_box.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/numerics/rtree.h>
 
 #include <algorithm>
+#include <sstream>
 
 namespace perideal
 {
@@ -12,7 +14,8 @@ namespace perideal
   Bonds
   find_families(PointCloud                &cloud,
                 const std::vector<double> &block_horizon,
-                const MPI_Comm             comm)
+                const MPI_Comm             comm,
+                const double               extra_reach)
   {
     namespace bgi = boost::geometry::index;
 
@@ -29,8 +32,8 @@ namespace perideal
     double expected = 0;
     for (unsigned int i = 0; i < n_owned; ++i)
       {
-        const double delta = block_horizon[cloud.block[i]];
-        expected += 4.19 * delta * delta * delta / cloud.volume[i];
+        const double reach = block_horizon[cloud.block[i]] + extra_reach;
+        expected += 4.19 * reach * reach * reach / cloud.volume[i];
       }
 
     Bonds bonds;
@@ -38,11 +41,15 @@ namespace perideal
     bonds.neighbor.reserve(static_cast<std::size_t>(expected * 1.1) + 16);
     std::vector<bool>         used(n_local, false);
     std::vector<unsigned int> candidates;
+    // Two points at one place give a bond of length 0 (a division by zero in
+    // every model): a mesh with duplicated or overlapping cells.
+    unsigned int coincident = 0;
+    Point<dim>   first_coincident;
     for (unsigned int i = 0; i < n_owned; ++i)
       {
         bonds.offsets[i]    = bonds.neighbor.size();
         const double     delta = block_horizon[cloud.block[i]];
-        const double     reach = delta * (1 + horizon_tolerance);
+        const double     reach = delta * (1 + horizon_tolerance) + extra_reach;
         const Point<dim> x     = points[i];
         Point<dim>       lo = x, hi = x;
         for (unsigned int d = 0; d < dim; ++d)
@@ -54,6 +61,8 @@ namespace perideal
         for (const unsigned int j : candidates)
           if (j != i && x.distance_square(points[j]) <= reach * reach)
             {
+              if (x.distance(points[j]) <= 1e-9 * delta && coincident++ == 0)
+                first_coincident = x;
               bonds.neighbor.push_back(j);
               used[j] = true;
             }
@@ -64,6 +73,22 @@ namespace perideal
                   });
       }
     bonds.offsets[n_owned] = bonds.neighbor.size();
+    const unsigned int n_coincident = Utilities::MPI::sum(coincident, comm);
+    if (n_coincident > 0)
+      {
+        // Name the point of the lowest rank that has one.
+        const unsigned int rank  = Utilities::MPI::this_mpi_process(comm);
+        const unsigned int owner = Utilities::MPI::min(coincident > 0 ? rank : numbers::invalid_unsigned_int, comm);
+        Point<dim>         p     = rank == owner ? first_coincident : Point<dim>();
+        for (unsigned int d = 0; d < dim; ++d)
+          p[d] = Utilities::MPI::sum(p[d], comm);
+        std::ostringstream where;
+        where << p;
+        AssertThrow(false,
+                    ExcMessage(std::to_string(n_coincident) + " bonds join points at the same place (within 1e-9 "
+                               "horizons), the first at (" + where.str() + "): the mesh has duplicated or "
+                               "overlapping cells"));
+      }
 
     // Renumbering keeps the relative order of ghosts (ascending global index),
     // which is not the key order; families stay sorted because the new local

@@ -84,7 +84,8 @@ namespace perideal
                 max_horizon, comm,
                 [&](const CellIterator &cell) -> unsigned int {
                   return cell->active_fe_index() > 0 ? cell_virtual[cell->active_cell_index()] - 1 : 0;
-                });
+                },
+                scene.partial_volumes);
     point_alpha.assign(cloud.n_owned(), 1.0);
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       if (blocks[cloud.block[i]].continuum)

@@ -1,4 +1,5 @@
 #include <perideal/base/memory.h>
+#include <perideal/neighborhood/partial_volumes.h>
 #include <perideal/solver/simulation.h>
 
 #include <deal.II/base/mpi.h>
@@ -596,7 +597,7 @@ namespace perideal
       if (has_continuum)
         build_coupled_cloud(block_of, max_horizon);
       else
-        cloud.build(dof_handler, block_of, max_horizon, comm);
+        cloud.build(dof_handler, block_of, max_horizon, comm, {}, scene.partial_volumes);
 
       if (cloud.n_global() == 0 && !has_continuum)
         {
@@ -624,7 +625,12 @@ namespace perideal
       std::vector<double>       horizon(blocks.size());
       for (unsigned int b = 0; b < blocks.size(); ++b)
         horizon[b] = blocks[b].horizon;
-      bonds = find_families(cloud, horizon, comm);
+      bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius);
+      if (scene.partial_volumes)
+        {
+          compute_partial_volumes(cloud, bonds, horizon);
+          cloud.cell_vertices = std::vector<double>(); // set-up only
+        }
       if (!bond_filters.empty())
         apply_bond_filters();
       if (has_continuum)
@@ -1093,7 +1099,7 @@ namespace perideal
           double all = 0, intact = 0;
           for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
             {
-              const double V = cloud.volume[bonds.neighbor[b]];
+              const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b);
               all += V;
               intact += broken[b] ? 0 : V;
               broken_local += broken[b];
@@ -1306,7 +1312,8 @@ namespace perideal
 
     // What this run holds, by part (all ranks).
     const double bond_bytes = bonds.neighbor.capacity() * sizeof(unsigned int) +
-                              bonds.offsets.capacity() * sizeof(std::size_t) + broken.capacity();
+                              bonds.offsets.capacity() * sizeof(std::size_t) + broken.capacity() +
+                              bonds.volume_fraction.capacity() * sizeof(float);
     const double point_bytes =
       cloud.X.capacity() * sizeof(double) + cloud.volume.capacity() * sizeof(double) +
       cloud.block.capacity() * sizeof(unsigned short) + cloud.key.capacity() * sizeof(PointKey) +
@@ -1474,7 +1481,7 @@ namespace perideal
     double all = 0, intact = 0;
     for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
       {
-        const double V = cloud.volume[bonds.neighbor[b]];
+        const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b);
         all += V;
         intact += broken[b] ? 0 : V;
       }

@@ -11,6 +11,7 @@
 #include <perideal/geometry/scene.h>
 #include <perideal/material/material.h>
 #include <perideal/neighborhood/bonds.h>
+#include <perideal/neighborhood/partial_volumes.h>
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
@@ -53,7 +54,8 @@ namespace pdtest
             const std::array<unsigned int, 3> &subdivisions,
             const double                       horizon,
             const MaterialSpec                &spec,
-            const std::function<double(const Point<3> &)> &energy_weight = {})
+            const std::function<double(const Point<3> &)> &energy_weight = {},
+            const bool                                     partial_volumes = false)
       : comm(comm)
       , horizon(horizon)
       , triangulation(comm)
@@ -69,8 +71,11 @@ namespace pdtest
       scene.create_triangulation(triangulation);
       dof_handler.distribute_dofs(fe);
 
-      cloud.build(dof_handler, [](const perideal::CellIterator &) { return 0; }, horizon, comm);
-      bonds  = perideal::find_families(cloud, {horizon}, comm);
+      cloud.build(dof_handler, [](const perideal::CellIterator &) { return 0; }, horizon, comm, {},
+                  partial_volumes);
+      bonds = perideal::find_families(cloud, {horizon}, comm, cloud.max_cell_radius);
+      if (partial_volumes)
+        perideal::compute_partial_volumes(cloud, bonds, {horizon});
       fields = std::make_unique<perideal::FieldStore>(cloud);
       u.reinit(cloud.vector_partitioner);
       force.reinit(cloud.vector_partitioner);

@@ -42,13 +42,18 @@ namespace perideal
      * map of the lattice (i + 1/2)/2^r of the unit cell), each with 1/8^r of
      * the cell's measure and the CellId of that descendant as key. These are
      * the virtual points of the FE-PD coupling (doc/coupling.md).
+     *
+     * With @p cell_geometry, every point (ghosts too) also carries the 8
+     * vertices of its cell in cell_vertices, and the ghost reach grows by
+     * the largest cell radius (max_cell_radius): what partial volumes need.
      */
     void
     build(const dealii::DoFHandler<dim>                         &dof_handler,
           const std::function<int(const CellIterator &)>          &block_of,
           const double                                            max_horizon,
           const MPI_Comm                                          comm,
-          const std::function<unsigned int(const CellIterator &)> &levels_of = {});
+          const std::function<unsigned int(const CellIterator &)> &levels_of     = {},
+          const bool                                               cell_geometry = false);
 
     /**
      * Keep only the ghost candidates marked in @p used (indexed by local
@@ -91,6 +96,8 @@ namespace perideal
     std::vector<PointKey>                        key;    // CellId: rank-independent identity and order
     std::vector<dealii::types::global_dof_index> gid;    // global point index
     std::vector<CellIterator>                    cell;   // owned points only: the cell holding the point
+    std::vector<double> cell_vertices;   // with cell geometry only (set-up): 8 vertices x dim per point
+    double              max_cell_radius = 0; // with cell geometry: the largest centroid-to-vertex distance
 
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> scalar_partitioner;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> vector_partitioner;

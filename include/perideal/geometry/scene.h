@@ -30,7 +30,8 @@ namespace perideal
     typical_spacing() const;
 
     std::string type;
-    double      horizon = 0;
+    double      horizon         = 0;
+    bool        partial_volumes = false; // neighbors count with their cell's share inside the horizon
     std::vector<std::string>  refinement_regions; // applied by the Simulation, which knows the regions
     std::vector<unsigned int> refinement_levels;
 

@@ -24,24 +24,54 @@ namespace perideal
       return neighbor.size();
     }
 
+    /// beta_ij per bond, only with partial volumes (partial_volumes.h):
+    /// neighbor j counts with volume beta_ij V_j.
+    std::vector<float> volume_fraction;
+
+    /// beta of bond @p b: 1 without partial volumes. For set-up and
+    /// reporting; the force loops branch on volume_fraction.empty() once.
+    double
+    fraction(const std::size_t b) const
+    {
+      return volume_fraction.empty() ? 1.0 : volume_fraction[b];
+    }
+
     /// Keeps the bonds (i, j) of the @p n_owned owned points for which
     /// @p keep(i, j) is true, in their order; frees the rest.
     template <typename Keep>
     void
     keep_if(const unsigned int n_owned, const Keep &keep)
     {
-      std::size_t kept = 0;
+      keep_if_bond(n_owned, [&](const unsigned int i, const std::size_t b) { return keep(i, neighbor[b]); });
+    }
+
+    /// As keep_if(), with @p keep(i, b) given the owner and the bond's index.
+    template <typename Keep>
+    void
+    keep_if_bond(const unsigned int n_owned, const Keep &keep)
+    {
+      const bool  fractions = !volume_fraction.empty();
+      std::size_t kept      = 0;
       for (unsigned int i = 0; i < n_owned; ++i)
         {
           const std::size_t begin = offsets[i], end = offsets[i + 1];
           offsets[i]              = kept;
           for (std::size_t b = begin; b < end; ++b)
-            if (keep(i, neighbor[b]))
-              neighbor[kept++] = neighbor[b];
+            if (keep(i, b))
+              {
+                if (fractions)
+                  volume_fraction[kept] = volume_fraction[b];
+                neighbor[kept++] = neighbor[b];
+              }
         }
       offsets[n_owned] = kept;
       neighbor.resize(kept);
       neighbor.shrink_to_fit();
+      if (fractions)
+        {
+          volume_fraction.resize(kept);
+          volume_fraction.shrink_to_fit();
+        }
     }
   };
 
@@ -51,11 +81,13 @@ namespace perideal
   /**
    * Finds the family of every owned point in the reference configuration
    * (R-tree over owned points and ghost candidates; point i's family is every
-   * other point within horizon[block[i]]), drops the ghost candidates no
+   * other point within horizon[block[i]] + @p extra_reach: the largest cell
+   * radius when partial volumes follow), drops the ghost candidates no
    * family uses and renumbers @p cloud. Collective.
    */
   Bonds
   find_families(PointCloud                &cloud,
                 const std::vector<double> &block_horizon,
-                const MPI_Comm             comm);
+                const MPI_Comm             comm,
+                const double               extra_reach = 0);
 } // namespace perideal
