@@ -20,7 +20,11 @@ Usage:
     b   h -> 0 at fixed delta (m = delta/h grows: the limit is the nonlocal
         PD solution of that delta)
   for one or more variants (--variant; models, influence functions, surface
-  correction, partial volumes; `--list` shows them).
+  correction, partial volumes; `--list` shows them). A variant or --set key
+  that pd_app does not know (--print-parameters) is reported and skipped.
+  Errors are taken against the classical answer and, where the scene has a
+  closed form, against the nonlocal continuum PD answer of the same delta
+  (*_PD columns); the plot shows the latter for sequence b.
 
 Options:
   --seq a,b            sequences to run (default: both)
@@ -38,32 +42,38 @@ Options:
                        resolutions); exit code 1 if a value lies outside
   --pd-app PATH        default: build/pd_app of this repository
   --mpirun PATH        default: mpirun on PATH
+  --lock FILE          run each pd_app under a shared flock of FILE (a shared build tree:
+                       --lock /tmp/perideal-build.lock)
   --work DIR           where the runs go (default build/verification)
   --results DIR        where the tables and plot go (default doc/verification)
   --replot             no runs: rebuild the table and PNG from the CSV in --results
   --no-png             tables only
   --list               print the scenes' sequences and variants and exit
 
-Writes, in --results: SCENE[-LABEL].md (markdown tables: resolution, h, delta,
-m, points, bonds, wall time, errors, observed rates log(e_i-1/e_i)/log(h_i-1/h_i)),
+Writes, in --results: SCENE[-LABEL][-quick].md (markdown tables: resolution, h, delta,
+m, points, bonds, wall time (pd_app's summary, 0.1 s resolution), process time
+(mpirun start to exit), errors, observed rates log(e_i-1/e_i)/log(h_i-1/h_i)),
 SCENE[-LABEL].csv (the same numbers, for --replot) and SCENE[-LABEL].png
-(error against h and against wall time; needs matplotlib, the tables do not).
+(error against h and against process time; needs matplotlib, the tables do
+not).
 Each run's parameter file, log and globals CSV stay in --work.
 
 The parameter files are doc/verification/SCENE.prm.in with {{PLACEHOLDERS}}
 the driver fills. pd_app is run as `mpirun -np N pd_app params.prm`; as root,
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1. In a shared
-build tree wrap the study in `flock -s /tmp/perideal-build.lock ...`.
+build tree pass --lock /tmp/perideal-build.lock (each run under a shared lock).
 """
 
 import argparse
 import csv
+import fcntl
 import math
 import os
 import re
 import shutil
 import subprocess
 import sys
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TEMPLATES = os.path.join(ROOT, "doc", "verification")
@@ -130,7 +140,6 @@ def override(text, assignment):
         known = {b[0]: b for b in sections(lines)}
         depth = max(d for d in range(len(secs) + 1) if tuple(secs[:d]) in known)
         parent = known[tuple(secs[:depth])]
-        ind = "  " * depth
         new = []
         for d in range(depth, len(secs)):
             new.append("  " * d + "subsection " + secs[d])
@@ -138,7 +147,6 @@ def override(text, assignment):
         for d in reversed(range(depth, len(secs))):
             new.append("  " * d + "end")
         at = parent[1] + 1 if parent[1] >= 0 else len(lines)
-        del ind
         return "\n".join(lines[:at] + new + lines[at:])
     # Replace or insert, last block first so that indices stay valid.
     for p, start, end in sorted(blocks, key=lambda b: -b[1]):
@@ -183,13 +191,31 @@ def run_case(args, scene, case, np_):
         text = override(text, a)
     open(os.path.join(d, "params.prm"), "w").write(text)
     cmd = [args.mpirun, "-np", str(np_), args.pd_app, "params.prm"]
-    p = subprocess.run(cmd, cwd=d, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+    for attempt in range(6):
+        # A shared lock: nobody rebuilds pd_app during the run, others may
+        # run too. Taken before the clock starts, so waiting is not timed.
+        lock = open(args.lock, "a") if args.lock else None
+        if lock:
+            fcntl.flock(lock, fcntl.LOCK_SH)
+        start = time.time()
+        p = subprocess.run(cmd, cwd=d, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+        elapsed = time.time() - start
+        if lock:
+            lock.close()
+        # A binary being relinked by someone else's build (no lock taken)
+        # fails to start or dies at once: wait and try again. An input error
+        # ('Error: ...') or a failed run with a summary is final.
+        if p.returncode == 0 or "Error:" in p.stdout or "PeriDeal summary" in p.stdout or not args.lock:
+            break
+        print("pd_study: pd_app did not start (exit %d), retrying in 30 s" % p.returncode, flush=True)
+        time.sleep(30)
     open(os.path.join(d, "log"), "w").write(p.stdout)
     if p.returncode != 0:
         tail = "\n".join(p.stdout.strip().split("\n")[-15:])
         raise SystemExit("pd_study: pd_app failed (exit %d) in %s:\n%s" % (p.returncode, d, tail))
     rows = list(csv.DictReader(open(os.path.join(d, "output", case["values"]["NAME"] + ".globals.csv"))))
     r = parse_summary(p.stdout)
+    r["process"] = elapsed  # what a user waits: mpirun, libraries, set-up, run
     r["measures"] = scene.measure(case, [{k: float(v) for k, v in row.items()} for row in rows])
     return r
 
@@ -216,6 +242,58 @@ def pmb_dispersion_omega2(k, delta, K=1.0, rho=1.0):
     n = 2000  # Simpson on [0, delta]: smooth integrand, error ~1e-13
     s = sum((1 if i in (0, n) else 4 if i % 2 else 2) * (delta * i / n) * J(k * delta * i / n) for i in range(n + 1))
     return 2 * math.pi * c * s * delta / n / 3 / rho
+
+
+def _sphere_mean(f, n=240):
+    """Midpoint rule over the unit sphere of f(nx, ny, nz) for several
+    integrands at once (f returns a list); the kinks of |n_k| at the
+    coordinate planes leave an error of ~1e-5."""
+    total = None
+    dt, dp = math.pi / n, 2 * math.pi / (2 * n)
+    for i in range(n):
+        t = (i + 0.5) * dt
+        st, ct = math.sin(t), math.cos(t)
+        for j in range(2 * n):
+            ph = (j + 0.5) * dp
+            v = f(st * math.cos(ph), st * math.sin(ph), ct)
+            w = st * dt * dp
+            total = [w * x for x in v] if total is None else [a + w * x for a, x in zip(total, v)]
+    return total
+
+
+_CUBE = {}
+
+
+def pmb_cube_energy_ratio(delta, load):
+    """The continuum (nonlocal) PMB energy of the unit cube under a
+    homogeneous deformation, over the local value. Pairs (x, x + xi) in the
+    cube number prod_k (1 - |xi_k|) per unit volume (|xi_k| < 1), so
+      W = c/4 int_{|xi|<delta} s^2 |xi| prod_k (1 - |xi_k|) dxi,
+    s = eps (iso) or eps n_x^2 (uniaxial u_x = eps x). Expanding the product
+    over the subsets S of {x, y, z}: the radial integral gives delta^(4+|S|)
+    /(4+|S|), the angular one A_S = int f(n) prod_S |n_k| dOmega, f = 1 or
+    n_x^4, and W/W_local = sum_S (-1)^|S| delta^|S| 4/(4+|S|) A_S/A_{}.
+    Isotropic: 1 - 6 delta/5 + 4 delta^2/(3 pi) - delta^3/(7 pi)."""
+    if load not in _CUBE:
+        subsets = [(), (0,), (1,), (2,), (0, 1), (0, 2), (1, 2), (0, 1, 2)]
+
+        def f(*n):
+            w = n[0] ** 4 if load == "uni" else 1.0
+            return [w * math.prod(abs(n[k]) for k in S) for S in subsets]
+
+        _CUBE[load] = list(zip(subsets, _sphere_mean(f)))
+    a = _CUBE[load]
+    return sum((-1) ** len(S) * delta ** len(S) * 4 / (4 + len(S)) * A / a[0][1] for S, A in a)
+
+
+def pmb_split_ratio(delta, width):
+    """The continuum PMB energy to split a width x width section (free edges)
+    over G_c: bonds crossing the plane per unit area, xi_x (1 - |xi_y|/W)
+    (1 - |xi_z|/W); with int_{n_x>0} n_x dOmega = pi, ... n_x |n_y| = 4/3,
+    ... n_x |n_y n_z| = 1/2 and the radial powers 5/(5+|S|):
+      G/G_c = 1 - 20/(9 pi) delta/W + 5/(14 pi) (delta/W)^2."""
+    r = delta / width
+    return 1 - 20 / (9 * math.pi) * r + 5 / (14 * math.pi) * r * r
 
 
 def lattice_fracture_energy(ny, half, h, delta, gc, K=1.0):
@@ -252,6 +330,7 @@ SC = "Materials/solid/Surface correction=Energy"
 
 class Bar:
     name = "bar"
+    plotted = ["u_err", "stiffness_err"]
     what = "static uniaxial bar 1 x 0.2 x 0.2, quasistatic, grips x < 0.25 and x > 0.75"
     resolutions = {"a": [4, 6, 8, 12], "b": [4, 6, 8, 10]}  # points across the bar (NY)
     quick = {"a": [4, 6], "b": [4, 6]}
@@ -260,10 +339,11 @@ class Bar:
     variants = {
         "pmb": ([], "PMB"),
         "pmb-energy": ([SC], "PMB, Surface correction = Energy"),
-        "lps": (LPS, "LPS, G = 0.6 (nu = 1/4), influence 1"),
         "pmb-pv": ([PV], "PMB, partial volumes"),
+        "lps": (LPS, "LPS, G = 0.6 (nu = 1/4), influence 1"),
+        "lps-energy": (LPS + [SC], "LPS, Surface correction = Energy"),
     }
-    default = ["pmb", "pmb-energy", "lps"]
+    default = ["pmb", "pmb-energy", "pmb-pv", "lps", "lps-energy"]
     # LPS's tangent couples a point to its neighbours' families (2 delta):
     # at ny = 10-12 it has 10^8 nonzeros; stop at ny = 8.
     max_res = {"lps": 8}
@@ -294,6 +374,8 @@ class Bar:
 
 class Dispersion:
     name = "dispersion"
+    plotted = ["omega_err_cl", "omega_err"]
+    primary = {"a": "omega_err_cl", "b": "omega_err"}
     what = "standing wave u_x = cos(k x) in a bar 1 x 0.2 x 0.2 with u_y = u_z = 0 (uniaxial strain), Verlet"
     resolutions = {"a": [4, 6, 8, 12], "b": [4, 6, 8, 10]}
     quick = {"a": [4, 6], "b": [4, 6]}
@@ -304,8 +386,10 @@ class Dispersion:
         "pmb-k3": (["@MODE=3"], "PMB, k = 3 pi"),
         "pmb-energy-k3": ([SC, "@MODE=3"], "PMB, Surface correction = Energy, k = 3 pi"),
         "pmb-pv": ([PV], "PMB, partial volumes, k = pi"),
+        "pmb-pv-k3": ([PV, "@MODE=3"], "PMB, partial volumes, k = 3 pi"),
     }
-    default = ["pmb", "pmb-energy", "pmb-energy-k3"]
+    default = ["pmb", "pmb-energy", "pmb-pv", "pmb-k3", "pmb-energy-k3", "pmb-pv-k3"]
+
 
     def values(self, seq, ny, mode=1):
         h = 0.2 / ny
@@ -327,8 +411,19 @@ class Dispersion:
         omega = math.pi / (cross[1] - cross[0])
         w_pd = math.sqrt(pmb_dispersion_omega2(k, delta))
         w_cl = math.sqrt(1.8) * k
-        return [("omega_err", abs(omega / w_pd - 1), True), ("omega/omega_PD-1", omega / w_pd - 1, False),
+        return [("omega_err_cl", abs(omega / w_cl - 1), True), ("omega_err", abs(omega / w_pd - 1), True),
+                ("omega/omega_PD-1", omega / w_pd - 1, False),
                 ("omega_PD/omega_cl-1", w_pd / w_cl - 1, False)]
+
+    def selfcheck(self):
+        """The reference itself: the long-wave limit is the P-wave speed
+        sqrt(9K/5 / rho), and the first correction is -(20/504)(k delta)^2 / 2
+        in omega (J(a) = a^2/5 - a^4/84 + ...)."""
+        out = []
+        for kd, want in ((1e-3, 1.0), (0.1, 1 - 10 / 504 * 0.01)):
+            got = math.sqrt(pmb_dispersion_omega2(kd / 0.1, 0.1) / 1.8) / (kd / 0.1)
+            out.append(("omega_PD/(sqrt(9K/5) k) at k delta = %g" % kd, got, want, 1e-6))
+        return out
 
     # Bands on the quick resolutions (ny = 4, 6; measured omega/omega_PD - 1:
     # -0.172, -0.109 (pmb), +0.157, +0.088 (pmb-energy)).
@@ -341,6 +436,8 @@ class Dispersion:
 
 class Surface:
     name = "surface"
+    plotted = ["energy_err", "energy_err_PD"]
+    primary = {"a": "energy_err", "b": "energy_err_PD"}
     what = "free unit cube, homogeneous deformation set at t = 0, strain energy"
     resolutions = {"a": [5, 10, 15, 20], "b": [10, 15, 20, 25]}  # points along an edge (N)
     quick = {"a": [5, 10], "b": [10, 15]}
@@ -357,11 +454,15 @@ class Surface:
         "lps-gauss-uni": (LPS + ["Materials/solid/Influence function=exp(-(r/0.5)^2)", "@LOAD=uni"],
                           "LPS, influence exp(-(r/0.5)^2), uniaxial strain"),
         "lps-energy-uni": (LPS + [SC, "@LOAD=uni"], "LPS, Surface correction = Energy, uniaxial strain"),
+        "pmb-pv-iso": ([PV, "@LOAD=iso"], "PMB, partial volumes, isotropic expansion"),
         "pmb-pv-uni": ([PV, "@LOAD=uni"], "PMB, partial volumes, uniaxial strain"),
         "pmb-energy-pv-uni": ([SC, PV, "@LOAD=uni"], "PMB, partial volumes + energy correction, uniaxial strain"),
         "lps-pv-uni": (LPS + [PV, "@LOAD=uni"], "LPS, partial volumes, uniaxial strain"),
+        "lps-energy-pv-uni": (LPS + [SC, PV, "@LOAD=uni"], "LPS, partial volumes + energy correction, uniaxial strain"),
     }
-    default = ["pmb-iso", "pmb-energy-iso", "pmb-uni", "pmb-energy-uni", "lps-1-uni", "lps-invr-uni", "lps-gauss-uni"]
+    default = ["pmb-iso", "pmb-energy-iso", "pmb-pv-iso", "pmb-uni", "pmb-energy-uni", "pmb-pv-uni",
+               "lps-1-uni", "lps-invr-uni", "lps-gauss-uni", "lps-energy-uni", "lps-pv-uni", "lps-energy-pv-uni"]
+
 
     def values(self, seq, n, load="iso"):
         h = 1.0 / n
@@ -375,7 +476,12 @@ class Surface:
             ref = 4.5 * self.K * self.eps ** 2
         else:
             ref = (self.K / 2 + 2 * self.G / 3) * self.eps ** 2
-        return [("energy_err", abs(w / ref - 1), True), ("W/W_cont-1", w / ref - 1, False)]
+        # The nonlocal continuum answer is known for PMB without correction
+        # (partial volumes only change the quadrature).
+        plain = not any(o.startswith(("Materials/solid/Model=LPS", SC)) for o in case["overrides"])
+        ref_pd = ref * pmb_cube_energy_ratio(float(case["values"]["HORIZON"]), case["values"]["LOAD"]) if plain else float("nan")
+        return [("energy_err", abs(w / ref - 1), True), ("energy_err_PD", abs(w / ref_pd - 1), True),
+                ("W/W_cont-1", w / ref - 1, False), ("W_PD/W_cont-1", ref_pd / ref - 1, False)]
 
     # Bands on the quick resolutions (N = 5, 10; measured W/W_cont - 1:
     # -0.544, -0.263 (pmb-iso), 0 (pmb-energy-iso), -0.012, -0.039 (lps-1-uni)).
@@ -387,11 +493,16 @@ class Surface:
         ("a", "lps-1-uni", "W/W_cont-1", 1, -0.06, -0.02, "LPS, uniaxial strain: small surface deficit"),
         ("a", "lps-invr-uni", "same:pmb-energy-uni:W/W_cont-1", 1, -1e-6, 1e-6,
          "LPS with 1/r at nu = 1/4 has PMB-with-energy-correction's energy (doc/verification.md)"),
+        ("a", "pmb-pv-iso", "energy_err_PD", 1, 0.010, 0.025,
+         "partial volumes: 1.8% from the nonlocal continuum (9.1% without)"),
+        ("a", "lps-energy-uni", "W/W_cont-1", 1, -0.06, -0.03, "LPS energy correction: -4.4% at N = 10"),
     ]
 
 
 class Fracture:
     name = "fracture"
+    plotted = ["G_err", "G_err_PD"]
+    primary = {"a": "G_err", "b": "G_err_PD"}
     what = "block LX x 0.5 x 0.5 split at x = LX/2, rigid halves, energy of the broken bonds / area"
     resolutions = {"a": [10, 15, 20, 30], "b": [10, 15, 20, 25]}  # points across (NY); h = 0.5/NY
     quick = {"a": [10, 15], "b": [10, 15]}
@@ -401,7 +512,7 @@ class Fracture:
         "pmb": ([], "PMB, critical stretch from G_c"),
         "pmb-pv": ([PV], "PMB, partial volumes"),
     }
-    default = ["pmb"]
+    default = ["pmb", "pmb-pv"]
 
     def values(self, seq, ny, steps=None):
         steps = steps or self.steps
@@ -421,8 +532,12 @@ class Fracture:
         g = (last["external_work"] - last["strain_energy"] - last["kinetic_energy"]) / 0.25
         v = case["values"]
         h, delta = 0.5 / v["NY"], float(v["HORIZON"])
-        g_lat = lattice_fracture_energy(v["NY"], v["NX"] // 2, h, delta, self.gc)
-        return [("G_err", abs(g / self.gc - 1), True), ("G/G_c-1", g / self.gc - 1, False),
+        # The lattice sum counts whole cells: no reference with partial volumes.
+        pv = any(re.match(r"Discretization/Partial volumes\s*=\s*true", a) for a in case["overrides"])
+        g_lat = float("nan") if pv else lattice_fracture_energy(v["NY"], v["NX"] // 2, h, delta, self.gc)
+        g_pd = self.gc * pmb_split_ratio(delta, 0.5)
+        return [("G_err", abs(g / self.gc - 1), True), ("G_err_PD", abs(g / g_pd - 1), True),
+                ("G/G_c-1", g / self.gc - 1, False), ("G_PD/G_c-1", g_pd / self.gc - 1, False),
                 ("G_lattice/G_c-1", g_lat / self.gc - 1, False), ("G/G_lattice-1", g / g_lat - 1, False),
                 ("broken", int(last["broken_bonds"]), False), ("E_s left", last["strain_energy"] / (self.gc * 0.25), False)]
 
@@ -434,6 +549,8 @@ class Fracture:
         ("a", "pmb", "G/G_lattice-1", 1, -0.01, 0.01, "the same, ny = 15"),
         ("b", "pmb", "G/G_lattice-1", 1, -0.01, 0.01, "the same, m = 3"),
         ("a", "pmb", "G/G_c-1", 1, -0.07, -0.01, "m = 3: lattice sum and edges a few % low"),
+        ("a", "pmb", "G_err_PD", 1, 0.09, 0.14, "m = 3: the lattice sum is 12% above the continuum PD value"),
+        ("a", "pmb-pv", "G_err_PD", 1, 0.015, 0.035, "partial volumes: 2.4% from the continuum PD value"),
     ]
 
 
@@ -473,7 +590,7 @@ def add_rates(rows):
 
 
 def write_tables(args, scene, rows, base):
-    fields = ["series", "seq", "variant", "res", "h", "delta", "m", "points", "bonds", "wall"]
+    fields = ["series", "seq", "variant", "res", "h", "delta", "m", "points", "bonds", "wall", "process"]
     names = [n for n in rows[0]["order"]]
     errors = [n for n in names if n in rows[0]["errors"]]
     with open(base + ".csv", "w", newline="") as f:
@@ -492,14 +609,14 @@ def write_tables(args, scene, rows, base):
         desc = scene.variants[variant][1] if variant in scene.variants else variant
         how = "h -> 0 at m = delta/h = %g" % M_FIXED if seq == "a" else "h -> 0 at delta = %g" % scene.delta_b
         lines += ["**%s**: %s; %s" % (s, desc, how), ""]
-        head = ["res", "h", "delta", "m", "points", "bonds", "wall [s]"]
+        head = ["res", "h", "delta", "m", "points", "bonds", "wall [s]", "process [s]"]
         for n in names:
             head += [n] + (["rate"] if n in errors else [])
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---:|" * len(head))
         for r in sr:
             cells = [str(r["res"]), fmt(r["h"]), fmt(r["delta"]), fmt(r["m"], 3), str(r["points"]), str(r["bonds"]),
-                     fmt(r["wall"], 3)]
+                     fmt(r["wall"], 3), fmt(r["process"], 3)]
             for n in names:
                 cells.append(fmt(r[n], 3))
                 if n in errors:
@@ -516,7 +633,7 @@ def read_csv(base):
     for raw in csv.DictReader(open(base + ".csv")):
         r = dict(series=raw["series"], seq=raw["seq"], variant=raw["variant"], res=int(raw["res"]), h=float(raw["h"]),
                  delta=float(raw["delta"]), m=float(raw["m"]), points=int(raw["points"]), bonds=int(raw["bonds"]),
-                 wall=float(raw["wall"]), errors=raw["errors"].split())
+                 wall=float(raw["wall"]), process=float(raw["process"]), errors=raw["errors"].split())
         skip = set(r) | {"errors"}
         r["order"] = [k for k in raw if k not in skip]
         for k in r["order"]:
@@ -536,43 +653,74 @@ def plot(scene, rows, base):
               "`/usr/bin/python3 apps/pd_study.py %s --replot ...` (or install python3-matplotlib)."
               % (sys.executable, scene.name))
         return
-    err = rows[0]["errors"][0]
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     series = []
     for r in rows:
         if r["series"] not in series:
             series.append(r["series"])
-    for s in series:
-        sr = [r for r in rows if r["series"] == s and r[err] > 0]
-        if not sr:
-            continue
-        style = "o-" if sr[0]["seq"] == "a" else "s--"
-        ax[0].loglog([r["h"] for r in sr], [r[err] for r in sr], style, label=s)
-        ax[1].loglog([r["wall"] for r in sr], [r[err] for r in sr], style, label=s)
-    ax[0].set_xlabel("h")
-    ax[1].set_xlabel("wall time [s]")
-    for a in ax:
-        a.set_ylabel(err)
-        a.grid(True, which="both", alpha=0.3)
-    ax[0].invert_xaxis()
-    ax[1].legend(fontsize=7)
-    fig.suptitle("%s: a = fixed m = %g (o-), b = fixed delta (s--)" % (scene.name, M_FIXED), fontsize=10)
+    seqs = sorted(set(r["seq"] for r in rows))
+    variants = []
+    for r in rows:
+        if r["variant"] not in variants:
+            variants.append(r["variant"])
+    colour = {v: plt.cm.tab10(i % 10) for i, v in enumerate(variants)}
+    # One row per sequence (a: against the classical answer; b: against the
+    # nonlocal PD answer of its delta where the scene has one), the same
+    # colour for a variant in both rows.
+    panels = [(q, e) for q in seqs for e in getattr(scene, "plotted", [None])]
+    fig, ax = plt.subplots(len(panels), 2, figsize=(11, 4.0 * len(panels)), squeeze=False)
+    for row, (seq, wanted) in enumerate(panels):
+        used = set()
+        for s in [x for x in series if x.startswith(seq + "-")]:
+            sr = [r for r in rows if r["series"] == s]
+            err = wanted or getattr(scene, "primary", {}).get(seq, sr[0]["errors"][0])
+            label = s
+            if all(math.isnan(r[err]) for r in sr):
+                if wanted:  # a panel of one measure: series without it are left out
+                    continue
+                err = sr[0]["errors"][0]
+                label = s + " (vs classical)"
+            sr = [r for r in sr if r[err] > 0]
+            if not sr:
+                continue
+            used.add(err)
+            style = dict(marker="o" if "pv" not in sr[0]["variant"] else "s", color=colour[sr[0]["variant"]],
+                         linestyle="-" if "pv" not in sr[0]["variant"] else "--")
+            ax[row][0].loglog([r["h"] for r in sr], [r[err] for r in sr], label=label, **style)
+            ax[row][1].loglog([r["process"] for r in sr], [r[err] for r in sr], label=label, **style)
+        ax[row][0].set_xlabel("h")
+        ax[row][1].set_xlabel("run time [s] (mpirun start to exit, 1 rank)")
+        what = ("h -> 0 at m = %g" % M_FIXED) if seq == "a" else ("h -> 0 at delta = %g" % scene.delta_b)
+        for a in ax[row]:
+            a.set_ylabel(", ".join(sorted(used)))
+            a.grid(True, which="both", alpha=0.3)
+            a.set_title("%s, sequence %s: %s" % (scene.name, seq, what), fontsize=9)
+        ax[row][0].invert_xaxis()
+        ax[row][1].legend(fontsize=7, loc="best")
     fig.tight_layout()
-    fig.savefig(base + ".png", dpi=90)
+    fig.savefig(base + ".png", dpi=72)
     print("pd_study: wrote %s.png" % base)
 
 
-def check(scene, rows, label):
+def check(scene, rows, label, requested):
     """The scene's bands on the quick resolutions; returns the number of
     failures. A check is (seq, variant, quantity, index of the resolution,
     low, high, why); quantity is a measure, 'rate:MEASURE' (the observed rate
     from the resolution before), or 'same:VARIANT:MEASURE' (relative
     difference to another variant's value)."""
     failures = 0
+    for what, got, want, tol in scene.selfcheck() if hasattr(scene, "selfcheck") else []:
+        ok = abs(got - want) <= tol
+        failures += not ok
+        print("check reference: %s = %.10f, expected %.10f +- %g  %s" % (what, got, want, tol, "PASS" if ok else "FAIL"))
     sfx = "-" + label if label else ""
     for seq, variant, what, index, lo, hi, why in scene.checks:
-        sr = [r for r in rows if r["series"] == "%s-%s%s" % (seq, variant, sfx)]
-        if len(sr) <= index:
+        series = "%s-%s%s" % (seq, variant, sfx)
+        if series not in requested:
+            continue
+        sr = [r for r in rows if r["series"] == series]
+        if len(sr) <= index:  # requested but skipped (a parameter pd_app lacks) or failed
+            print("check %s res #%d: %s  FAIL  (not run)" % (series, index, what))
+            failures += 1
             continue
         r = sr[index]
         if what.startswith("rate:"):
@@ -605,6 +753,7 @@ def main():
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--pd-app", default=os.path.join(ROOT, "build", "pd_app"))
     ap.add_argument("--mpirun", default=shutil.which("mpirun") or "mpirun")
+    ap.add_argument("--lock", default="")
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "verification"))
     ap.add_argument("--results", default=TEMPLATES)
     ap.add_argument("--replot", action="store_true")
@@ -636,7 +785,12 @@ def main():
             raise SystemExit("pd_study: unknown variant '%s' of %s (--list)" % (v, scene.name))
     # Variants and --set keys pd_app does not know yet are reported and skipped
     # (e.g. partial volumes while they are being added), not failed.
+    lock = open(args.lock, "a") if args.lock else None
+    if lock:
+        fcntl.flock(lock, fcntl.LOCK_SH)
     known = subprocess.run([args.pd_app, "--print-parameters"], stdout=subprocess.PIPE, universal_newlines=True).stdout
+    if lock:
+        lock.close()
 
     def key_known(a):
         key = a.split("=")[0].split("/")[-1].strip()
@@ -660,12 +814,13 @@ def main():
                             failures += 1
                 row = dict(series=case["series"], seq=seq, variant=v, res=case["res"], h=case["h"], delta=case["delta"],
                            m=case["delta"] / case["h"], points=r0["points"], bonds=r0["bonds"], wall=r0["wall"],
+                           process=r0["process"],
                            order=[m[0] for m in r0["measures"]], errors=[m[0] for m in r0["measures"] if m[2]])
                 for name, val, _ in r0["measures"]:
                     row[name] = val
                 rows.append(row)
                 print("pd_study: %s %-16s res %-3s points %-7d bonds %-9d wall %-7s %s" % (
-                    scene.name, case["series"], case["res"], row["points"], row["bonds"], fmt(row["wall"], 3),
+                    scene.name, case["series"], case["res"], row["points"], row["bonds"], fmt(row["process"], 3),
                     "  ".join("%s %s" % (m[0], fmt(m[1], 4)) for m in r0["measures"])), flush=True)
     if not rows:
         raise SystemExit("pd_study: nothing was run")
@@ -674,7 +829,9 @@ def main():
     if not args.no_png:
         plot(scene, rows, base)
     if args.check:
-        failures += check(scene, rows, args.label)
+        requested = set("%s-%s%s" % (q, v, "-" + args.label if args.label else "") for q in args.seq.split(",")
+                        for v in variants)
+        failures += check(scene, rows, args.label, requested)
         print("pd_study: %s" % ("ALL CHECKS PASSED" if failures == 0 else "%d CHECK(S) FAILED" % failures))
     return 1 if failures else 0
 
