@@ -691,8 +691,13 @@ namespace perideal
       {
         const double time = t0 + step * dt_load;
         pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
+        const LoadPathState step_start = load_path_state();
         apply_prescribed(time, dt_load);
+        // No motion between load steps (apply_prescribed sets the supports'
+        // rate), so no kinetic energy.
         velocity = 0;
+        if (has_continuum)
+          continuum->V = 0;
         if (loads_depend_on_time)
           evaluate_loads(time);
         check_condition_values(first_nonfinite_condition(time), time);
@@ -702,10 +707,14 @@ namespace perideal
         total_solves += last_damage_solves;
         displacement.update_ghost_values();
         compute_forces(true);
+        external_work += load_path_work(step_start);
         if (output.is_output_step(step, n_steps))
           write_output(step, time, output.is_globals_step(step, n_steps), output.is_field_step(step, n_steps));
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // The energy balance needs the final strain energy.
+    if (!output.is_output_step(n_steps, n_steps))
+      global_quantities(n_steps, t1);
     pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
           << " Newton iterations, " << total_linear << " " << implicit.linear_solver << " iterations in "
           << sci(seconds, 4) << " s" << std::endl;
@@ -726,9 +735,14 @@ namespace perideal
         last_newton.residual = solve.residual;
         if (broken.empty())
           return;
+        std::vector<std::uint8_t> broken_before;
+        if (track_dissipation)
+          broken_before = broken;
         const std::size_t newly = break_bonds();
         if (newly == 0)
           return;
+        if (track_dissipation)
+          dissipated_energy += released_energy(broken_before);
         pcout << "  " << newly / 2 << " bonds broke: solving the step again" << std::endl;
         if (last_damage_solves == implicit.max_damage_solves)
           {
@@ -760,14 +774,12 @@ namespace perideal
     const std::vector<unsigned int> &fe_dofs = has_continuum ? continuum->free : no_dofs;
     double *const U = has_continuum ? continuum->U.begin() : nullptr;
     double *const V = has_continuum ? continuum->V.begin() : nullptr;
-    std::vector<double> fe_v_predicted(fe_dofs.size()), fe_u_before(fe_dofs.size()), load_before(fe_dofs.size());
+    std::vector<double> fe_v_predicted(fe_dofs.size());
     if (has_continuum)
       {
         fe_u_predicted.assign(continuum->U.locally_owned_size(), 0.0);
         fe_acceleration.assign(continuum->U.locally_owned_size(), 0.0);
       }
-    const std::vector<std::uint8_t> fe_prescribed = has_continuum ? fe_prescribed_flags() : std::vector<std::uint8_t>();
-    std::vector<double> node_support_before(node_constraints.size());
 
     // The initial acceleration from the equation of motion (virtual points
     // have no mass: they follow the FE field).
@@ -777,26 +789,11 @@ namespace perideal
       acceleration[k] = mass_density[k / dim] > 0 ? force.local_element(k) / mass_density[k / dim] : 0.0;
     for (const unsigned int l : fe_dofs)
       fe_acceleration[l] = continuum->F.local_element(l) / continuum->mass.local_element(l);
-    std::vector<unsigned int> fe_index_of(fe_prescribed.size(), 0); // local FE DoF -> index in fe_dofs
-    for (unsigned int j = 0; j < fe_dofs.size(); ++j)
-      fe_index_of[fe_dofs[j]] = j;
-    // A support's force at an FE node: M a - F.
-    const auto node_support_force = [&](const NodeConstraint &c) {
-      const unsigned int l = continuum->nodes[c.node].local;
-      return continuum->mass.local_element(l) * fe_acceleration[l] - continuum->F.local_element(l);
-    };
     record_initial_state(n_steps, t0);
     pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of " << sci(dt, 6)
           << " from t = " << t0 << "; tangent " << describe_tangent() << std::endl;
 
-    // What the supports and the body force do: trapezoidal sums of force x
-    // displacement increment (a support's force is m a - V f there).
-    const auto support_force = [&](const Constraint &c) {
-      const unsigned int k = dim * c.point + c.component;
-      return mass_density[c.point] * cloud.volume[c.point] * acceleration[k] -
-             cloud.volume[c.point] * force.local_element(k);
-    };
-    std::vector<double> support_before(constraints.size()), u_before(n), v_predicted(n), body_before(body_force);
+    std::vector<double> v_predicted(n);
     const auto          start        = std::chrono::steady_clock::now();
     unsigned int        total_newton = 0, total_linear = 0;
     u_predicted.resize(n);
@@ -804,14 +801,9 @@ namespace perideal
       {
         const double time = t0 + step * dt;
         pcout << "Step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
-        for (unsigned int c = 0; c < constraints.size(); ++c)
-          support_before[c] = support_force(constraints[c]);
-        for (unsigned int c = 0; c < node_constraints.size(); ++c)
-          node_support_before[c] = node_support_force(node_constraints[c]);
-        body_before = body_force;
+        const LoadPathState step_start = load_path_state();
         for (unsigned int k = 0; k < n; ++k)
           {
-            u_before[k]    = u[k];
             u_predicted[k] = u[k] + dt * v[k] + 0.5 * dt * dt * (1 - 2 * beta) * acceleration[k];
             v_predicted[k] = v[k] + dt * (1 - gamma) * acceleration[k];
             u[k]           = u_predicted[k];
@@ -819,8 +811,6 @@ namespace perideal
         for (unsigned int j = 0; j < fe_dofs.size(); ++j)
           {
             const unsigned int l = fe_dofs[j];
-            fe_u_before[j]       = U[l];
-            load_before[j]       = continuum->load.size() > 0 ? continuum->load.local_element(l) : 0.0;
             fe_u_predicted[l]    = U[l] + dt * V[l] + 0.5 * dt * dt * (1 - 2 * beta) * fe_acceleration[l];
             fe_v_predicted[j]    = V[l] + dt * (1 - gamma) * fe_acceleration[l];
             U[l]                 = fe_u_predicted[l];
@@ -848,27 +838,7 @@ namespace perideal
           continuum->hanging.distribute(continuum->V);
         displacement.update_ghost_values();
         compute_forces(true);
-        double work = 0;
-        for (unsigned int c = 0; c < node_constraints.size(); ++c)
-          {
-            const unsigned int l = continuum->nodes[node_constraints[c].node].local;
-            work += 0.5 * (node_support_before[c] + node_support_force(node_constraints[c])) *
-                    (U[l] - fe_u_before[fe_index_of[l]]);
-          }
-        if (has_continuum && continuum->load.size() > 0)
-          for (unsigned int j = 0; j < fe_dofs.size(); ++j)
-            if (!fe_prescribed[fe_dofs[j]])
-              work += 0.5 * (load_before[j] + continuum->load.local_element(fe_dofs[j])) *
-                      (U[fe_dofs[j]] - fe_u_before[j]);
-        for (unsigned int c = 0; c < constraints.size(); ++c)
-          {
-            const unsigned int k = dim * constraints[c].point + constraints[c].component;
-            work += 0.5 * (support_before[c] + support_force(constraints[c])) * (u[k] - u_before[k]);
-          }
-        for (unsigned int k = 0; k < body_force.size(); ++k)
-          if (!constrained_dofs[k])
-            work += 0.5 * (body_before[k] + body_force[k]) * cloud.volume[k / dim] * (u[k] - u_before[k]);
-        external_work += Utilities::MPI::sum(work, comm);
+        external_work += load_path_work(step_start);
         if (output.is_output_step(step, n_steps))
           write_output(step, time, output.is_globals_step(step, n_steps), output.is_field_step(step, n_steps));
       }
@@ -877,6 +847,76 @@ namespace perideal
           << " " << implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s" << std::endl;
     global_quantities(n_steps, t0 + n_steps * dt);
     print_summary(seconds, n_steps);
+  }
+
+  double
+  Simulation::support_force(const Constraint &c) const
+  {
+    const unsigned int k = dim * c.point + c.component;
+    return (acceleration.empty() ? 0.0 : mass_density[c.point] * cloud.volume[c.point] * acceleration[k]) -
+           cloud.volume[c.point] * force.local_element(k);
+  }
+
+  double
+  Simulation::node_support_force(const NodeConstraint &c) const
+  {
+    const unsigned int l = continuum->nodes[c.node].local;
+    return (fe_acceleration.empty() ? 0.0 : continuum->mass.local_element(l) * fe_acceleration[l]) -
+           continuum->F.local_element(l);
+  }
+
+  Simulation::LoadPathState
+  Simulation::load_path_state() const
+  {
+    LoadPathState s;
+    for (const auto &c : constraints)
+      s.support.push_back(support_force(c));
+    for (const auto &c : node_constraints)
+      s.node_support.push_back(node_support_force(c));
+    s.u.assign(displacement.begin(), displacement.begin() + dim * cloud.n_owned());
+    s.body = body_force;
+    if (has_continuum)
+      {
+        s.fe_u.assign(continuum->U.begin(), continuum->U.begin() + continuum->U.locally_owned_size());
+        if (continuum->load.size() > 0)
+          s.load.assign(continuum->load.begin(), continuum->load.begin() + continuum->load.locally_owned_size());
+      }
+    return s;
+  }
+
+  double
+  Simulation::load_path_work(const LoadPathState &start) const
+  {
+    // Trapezoidal sums of force x displacement increment: exact while the
+    // forces change linearly over the step (a linear material, small strain).
+    double        work = 0;
+    const double *u    = displacement.begin();
+    for (unsigned int c = 0; c < constraints.size(); ++c)
+      {
+        const unsigned int k = dim * constraints[c].point + constraints[c].component;
+        work += 0.5 * (start.support[c] + support_force(constraints[c])) * (u[k] - start.u[k]);
+      }
+    // A body force on a prescribed entry is balanced by its support.
+    for (unsigned int k = 0; k < body_force.size(); ++k)
+      if (!constrained_dofs[k])
+        work += 0.5 * (start.body[k] + body_force[k]) * cloud.volume[k / dim] * (u[k] - start.u[k]);
+    if (has_continuum)
+      {
+        const double *U = continuum->U.begin();
+        for (unsigned int c = 0; c < node_constraints.size(); ++c)
+          {
+            const unsigned int l = continuum->nodes[node_constraints[c].node].local;
+            work += 0.5 * (start.node_support[c] + node_support_force(node_constraints[c])) * (U[l] - start.fe_u[l]);
+          }
+        if (!start.load.empty())
+          {
+            const std::vector<std::uint8_t> prescribed = fe_prescribed_flags();
+            for (const unsigned int l : continuum->free)
+              if (!prescribed[l])
+                work += 0.5 * (start.load[l] + continuum->load.local_element(l)) * (U[l] - start.fe_u[l]);
+          }
+      }
+    return Utilities::MPI::sum(work, comm);
   }
 
   std::size_t

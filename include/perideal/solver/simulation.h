@@ -29,6 +29,7 @@
 #include <deal.II/hp/fe_collection.h>
 #include <deal.II/lac/trilinos_precondition.h>
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -143,6 +144,18 @@ namespace perideal
     /// 1 - (intact neighbor volume)/(neighbor volume) of owned point @p i.
     double
     point_damage(const unsigned int i) const;
+    /// The smallest point spacing, (cell volume)^(1/3), over the points with mass.
+    double
+    point_spacing() const;
+    /// The largest speed of a point with mass and an intact bond (collective).
+    double
+    fastest_bonded_speed() const;
+    /// The strain energy that bond breaking released at the current state:
+    /// with the bonds of @p mask_before (the broken flags before the breaks)
+    /// minus with those of now, summed over ranks. Leaves the forces and
+    /// energy densities of now.
+    double
+    released_energy(std::vector<std::uint8_t> &mask_before);
     /// The largest stretch of the intact bonds of owned point @p i (ghosted
     /// displacement).
     double
@@ -193,6 +206,18 @@ namespace perideal
     /// Runs the damage models on the current state; returns the bonds (directed) broken now.
     std::size_t
     break_bonds();
+    /// What the external work of an implicit step needs from its start: the
+    /// supports' forces, the displacements and the loads.
+    struct LoadPathState
+    {
+      std::vector<double> support, node_support, u, fe_u, body, load;
+    };
+    LoadPathState
+    load_path_state() const;
+    /// The work of the supports and the loads from @p start to now (trapezoid
+    /// rule over the step), summed over ranks.
+    double
+    load_path_work(const LoadPathState &start) const;
 
     MPI_Comm                                  comm;
     dealii::ConditionalOStream                pcout;
@@ -218,6 +243,7 @@ namespace perideal
     double       initial_time = 0, final_time = 0, fixed_dt = 0, safety_factor = 0;
     unsigned int requested_steps = 0;
     double       energy_growth_limit = 0;
+    bool         track_dissipation   = false; // Solver/Track dissipated energy
 
     // Coupling with continuum blocks (doc/coupling.md); nothing is allocated
     // without a continuum block.
@@ -284,10 +310,20 @@ namespace perideal
     std::vector<double>     constraint_force; // internal force at the constraints, previous step
     std::vector<double>     constraint_displacement; // per constraint: its own u (prescribed velocity)
     unsigned int            bad_condition = 0; // 1 + index of a condition that gave a non-finite value
+    /// The force the support of prescribed entry @p c puts on the body:
+    /// m a - V f (quasistatic, no acceleration: -V f).
+    double
+    support_force(const Constraint &c) const;
+    /// The same at an FE node: M a - F.
+    double
+    node_support_force(const NodeConstraint &c) const;
 
     // Diagnostics
     double      dt = 0, dt_stable = 0;
     double      external_work = 0, initial_energy = 0, last_strain_energy = 0, last_kinetic_energy = 0;
+    double      dissipated_energy = 0; // released by broken bonds (released_energy)
+    unsigned int shortened_steps  = 0; // Verlet steps shortened below the elastic step
+    double      shortest_dt       = std::numeric_limits<double>::max();
     std::size_t broken_bond_count = 0; // directed entries, this rank
     double      startup_memory    = 0; // resident bytes before the scene is read
     double      unbalanced_bonds  = 0; // % above the mean before rebalancing, 0: not needed
