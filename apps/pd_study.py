@@ -342,8 +342,11 @@ class Bar:
         "pmb-pv": ([PV], "PMB, partial volumes"),
         "lps": (LPS, "LPS, G = 0.6 (nu = 1/4), influence 1"),
         "lps-energy": (LPS + [SC], "LPS, Surface correction = Energy"),
+        "lps-invr": (LPS + ["Materials/solid/Influence function=1/r"], "LPS, influence 1/r"),
+        "lps-gauss": (LPS + ["Materials/solid/Influence function=exp(-(r/0.5)^2)"], "LPS, influence exp(-(r/0.5)^2)"),
+        "lps-pv": (LPS + [PV], "LPS, partial volumes"),
     }
-    default = ["pmb", "pmb-energy", "pmb-pv", "lps", "lps-energy"]
+    default = ["pmb", "pmb-energy", "pmb-pv", "lps", "lps-energy", "lps-invr", "lps-gauss", "lps-pv"]
     # LPS's tangent couples a point to its neighbours' families (2 delta):
     # at ny = 10-12 it has 10^8 nonzeros; stop at ny = 8.
     max_res = {"lps": 8}
@@ -594,7 +597,7 @@ def write_tables(args, scene, rows, base):
     names = [n for n in rows[0]["order"]]
     errors = [n for n in names if n in rows[0]["errors"]]
     with open(base + ".csv", "w", newline="") as f:
-        w = csv.writer(f)
+        w = csv.writer(f, lineterminator="\n")
         w.writerow(fields + names + ["errors"])
         for r in rows:
             w.writerow([r[k] for k in fields] + [repr(r[n]) for n in names] + [" ".join(r["errors"])])
