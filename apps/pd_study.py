@@ -362,8 +362,6 @@ class Bar:
         return [("u_err", last["u_err"] / (self.eps * 0.1), True), ("stiffness_err", abs(last["reaction_rx"] - f) / f, True),
                 ("F/EAeps-1", last["reaction_rx"] / f - 1, False)]
 
-    # Bands for --check on the quick resolutions (ny = 4, 6), from the
-    # measured values with a margin; see doc/verification.md.
     # Bands of --check on the quick resolutions (ny = 4, 6; measured: u_err
     # 0.0059, 0.0039; F/EAeps - 1 = -0.325, -0.232 (a), -0.042, -0.216 (b)).
     checks = [
