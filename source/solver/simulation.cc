@@ -1117,15 +1117,9 @@ namespace perideal
     if (!broken.empty())
       for (unsigned int i = 0; i < n; ++i)
         {
-          double all = 0, intact = 0;
           for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-            {
-              const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b);
-              all += V;
-              intact += broken[b] ? 0 : V;
-              broken_local += broken[b];
-            }
-          max_damage = std::max(max_damage, 1 - intact / all);
+            broken_local += broken[b];
+          max_damage = std::max(max_damage, point_damage(i));
         }
     ke                  = Utilities::MPI::sum(ke, comm);
     se                  = Utilities::MPI::sum(se, comm);

@@ -37,6 +37,8 @@
 //   be given for several columns.
 // Prints the numbers with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
+#include "check_common.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -52,48 +54,15 @@
 
 namespace
 {
-  unsigned int failures = 0;
-
-  std::string
-  str(const double v)
-  {
-    std::ostringstream o;
-    o << std::setprecision(3) << v;
-    return o.str();
-  }
+  using check_common::failures;
+  using check_common::read_rows;
+  using check_common::str;
 
   void
   check(const std::string &name, const double value, const bool ok, const std::string &bound)
   {
-    std::cout << std::setprecision(6) << name << " = " << value << "  (" << bound << ")  " << (ok ? "PASS" : "FAIL")
-              << "\n";
-    if (!ok)
-      ++failures;
-  }
-
-  std::vector<std::map<std::string, double>>
-  read_rows(const std::string &file)
-  {
-    std::ifstream in(file);
-    if (!in)
-      throw std::runtime_error("cannot open " + file);
-    std::string              line;
-    std::vector<std::string> header;
-    std::getline(in, line);
-    std::stringstream h(line);
-    for (std::string c; std::getline(h, c, ',');)
-      header.push_back(c);
-    std::vector<std::map<std::string, double>> rows;
-    while (std::getline(in, line))
-      {
-        std::stringstream             s(line);
-        std::map<std::string, double> row;
-        std::string                   c;
-        for (unsigned int k = 0; k < header.size() && std::getline(s, c, ','); ++k)
-          row[header[k]] = std::atof(c.c_str());
-        rows.push_back(row);
-      }
-    return rows;
+    std::cout << std::setprecision(6); // later lines print with it, as they always did
+    check_common::check(name, value, ok, bound, 6);
   }
 
   std::map<std::string, double>

@@ -19,6 +19,8 @@
 // Prints the numbers (3 digits, so that runs on 1 and 2 ranks print the
 // same) with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
+#include "../physics/check_common.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -34,50 +36,20 @@
 
 namespace
 {
-  unsigned int failures = 0;
-
-  std::string
-  str(const double v)
-  {
-    std::ostringstream o;
-    o << std::setprecision(3) << v;
-    return o.str();
-  }
+  using check_common::failures;
+  using check_common::Row;
+  using check_common::str;
 
   void
   check(const std::string &name, const double value, const bool ok, const std::string &bound)
   {
-    std::cout << name << " = " << str(value) << "  (" << bound << ")  " << (ok ? "PASS" : "FAIL") << "\n";
-    if (!ok)
-      ++failures;
+    check_common::check(name, value, ok, bound, 3);
   }
-
-  using Row = std::map<std::string, double>;
 
   std::vector<Row>
   read_rows(const std::string &file)
   {
-    std::ifstream in(file);
-    if (!in)
-      throw std::runtime_error("cannot open " + file);
-    std::string              line;
-    std::vector<std::string> header;
-    std::getline(in, line);
-    std::stringstream h(line);
-    for (std::string c; std::getline(h, c, ',');)
-      header.push_back(c);
-    std::vector<Row> rows;
-    while (std::getline(in, line))
-      {
-        std::stringstream s(line);
-        Row               row;
-        std::string       c;
-        for (unsigned int k = 0; k < header.size() && std::getline(s, c, ','); ++k)
-          row[header[k]] = std::strtod(c.c_str(), nullptr);
-        if (row.size() != header.size())
-          throw std::runtime_error("short line in " + file + ": " + line);
-        rows.push_back(row);
-      }
+    const std::vector<Row> rows = check_common::read_rows(file);
     if (rows.empty() || rows.front().at("step") != 0)
       throw std::runtime_error("no row of step 0 in " + file);
     return rows;
