@@ -54,33 +54,10 @@ namespace perideal
     std::size_t
     update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const override
     {
-      const double       *X        = state.cloud.X.data();
-      const double       *u        = state.u;
-      const std::size_t  *offsets  = state.bonds.offsets.data();
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      // Compare squared lengths: |y| > (1 + s_c)|xi|, no square root per bond.
-      const double factor = stretch_squared_limit(sc);
-      std::size_t  n      = 0;
-      for (const unsigned int i : points)
-        {
-          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
-          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
-          // both owners of a bond see the same length.
-          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
-#pragma omp simd reduction(+ : n)
-          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = neighbor[b];
-              const double       ex = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
-              const double       dx = (X[3 * j] + u[3 * j]) - pi;
-              const double       dy = (X[3 * j + 1] + u[3 * j + 1]) - qi;
-              const double       dz = (X[3 * j + 2] + u[3 * j + 2]) - ri;
-              n += break_if_overstretched(dx * dx + dy * dy + dz * dz,
-                                          ex * ex + ey * ey + ez * ez,
-                                          factor,
-                                          broken[b]);
-            }
-        }
+      std::size_t n = 0;
+      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+        n = update<decltype(periodic)::value>(state, points, broken);
+      });
       return n;
     }
 
@@ -103,6 +80,35 @@ namespace perideal
   private:
     std::string path;
     double      given_sc = 0, release_rate = 0, sc = 0;
+
+    template <bool periodic>
+    std::size_t
+    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const
+    {
+      const Periodicity   box      = state.cloud.periodicity;
+      const double       *X        = state.cloud.X.data();
+      const double       *u        = state.u;
+      const std::size_t  *offsets  = state.bonds.offsets.data();
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      // Compare squared lengths: |y| > (1 + s_c)|xi|, no square root per bond.
+      const double factor = stretch_squared_limit(sc);
+      std::size_t  n      = 0;
+      for (const unsigned int i : points)
+        {
+          const BondOrigin origin(X, u, i);
+#pragma omp simd reduction(+ : n)
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              double e[3], y[3];
+              bond_vectors<periodic>(X, u, neighbor[b], origin, box, e, y);
+              n += break_if_overstretched(y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
+                                          e[0] * e[0] + e[1] * e[1] + e[2] * e[2],
+                                          factor,
+                                          broken[b]);
+            }
+        }
+      return n;
+    }
   };
 
   PERIDEAL_REGISTER(DamageModel, CriticalStretch, "Critical stretch",

@@ -134,7 +134,8 @@ namespace perideal
       max_cell_radius = Utilities::MPI::max(max_cell_radius, comm);
 
     // Nonlocal ghosts: exchange bounding boxes, send every owned point that
-    // lies within the horizon of another rank's box to that rank.
+    // lies within the horizon of another rank's box (or of its periodic
+    // images) to that rank.
     const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
     const unsigned int my_rank = Utilities::MPI::this_mpi_process(comm);
     if (n_ranks == 1)
@@ -165,8 +166,12 @@ namespace perideal
           {
             bool inside = true;
             for (unsigned int d = 0; d < dim && inside; ++d)
-              inside = X[3 * i + d] >= boxes[r][d] - reach &&
-                       X[3 * i + d] <= boxes[r][dim + d] + reach;
+              {
+                // Where periodic, the point's images one period away count too.
+                const double lo = boxes[r][d] - reach, hi = boxes[r][dim + d] + reach, x = X[3 * i + d],
+                             L = periodicity.length[d];
+                inside = (x >= lo && x <= hi) || (L > 0 && ((x + L >= lo && x + L <= hi) || (x - L >= lo && x - L <= hi)));
+              }
             if (inside)
               {
                 records.push_back(gid[i]);

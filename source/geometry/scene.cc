@@ -6,6 +6,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <cmath>
+#include <limits>
 #include <fstream>
 
 namespace perideal
@@ -36,6 +37,14 @@ namespace perideal
                       "directions' fractions, so action equals reaction. Smooths the family sums' "
                       "jumps with delta/h (doc/verification.md); costs 4 bytes per bond, more bonds, "
                       "and set-up time.");
+    prm.declare_entry("Periodic directions", "", Patterns::List(Patterns::Selection("x|y|z"), 0, 3),
+                      "Directions in which the scene repeats, e.g. 'y, z': the mesh's two bounding "
+                      "faces normal to each are one face, and a family near one continues through the "
+                      "other (minimum-image bonds, no stored copies). The period is the bounding box's "
+                      "length and must exceed twice the horizon (plus a cell radius with partial "
+                      "volumes); the cells on the two faces must match (a box does). The displacement "
+                      "is periodic: a plane wave, a unit cell of a lattice or a laminate, a slab taken "
+                      "from an infinite plate. Not with continuum blocks.");
     prm.declare_entry("Refinement regions", "", Patterns::Anything(),
                       "Regions of Discretization/Regions, comma separated: the cells whose centroid lies "
                       "in the i-th are refined as often as the i-th entry of Refinement levels says "
@@ -72,6 +81,13 @@ namespace perideal
     type              = prm.get("Type");
     horizon           = prm.get_double("Horizon");
     partial_volumes   = prm.get_bool("Partial volumes");
+    periodic          = {{false, false, false}};
+    for (const std::string &d : Utilities::split_string_list(prm.get("Periodic directions"), ','))
+      {
+        const unsigned int k = d[0] - 'x';
+        AssertThrow(!periodic[k], ExcMessage("Discretization/Periodic directions: '" + d + "' is given twice"));
+        periodic[k] = true;
+      }
     refinement_regions = Utilities::split_string_list(prm.get("Refinement regions"), ',');
     for (const int l : Utilities::string_to_int(Utilities::split_string_list(prm.get("Refinement levels"), ',')))
       refinement_levels.push_back(l);
@@ -209,6 +225,26 @@ namespace perideal
       tria.create_triangulation(vertices, cells, SubCellData());
     }
   } // namespace
+
+  Periodicity
+  Scene::periodicity(const parallel::distributed::Triangulation<dim> &tria) const
+  {
+    // Every rank holds the whole coarse mesh, and refinement stays inside it.
+    Periodicity result;
+    for (unsigned int d = 0; d < dim; ++d)
+      if (periodic[d])
+        {
+          double low = std::numeric_limits<double>::max(), high = -low;
+          for (const auto &cell : tria.cell_iterators_on_level(0))
+            for (const unsigned int v : cell->vertex_indices())
+              {
+                low  = std::min(low, cell->vertex(v)[d]);
+                high = std::max(high, cell->vertex(v)[d]);
+              }
+          result.set(d, low, high);
+        }
+    return result;
+  }
 
   void
   Scene::create_triangulation(parallel::distributed::Triangulation<dim> &tria) const

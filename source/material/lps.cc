@@ -92,7 +92,6 @@ namespace perideal
     void
     initialize(const ModelState &state, const std::vector<unsigned int> &points) override
     {
-      const double *X = state.cloud.X.data();
       const double *V = state.cloud.volume.data();
       // With partial volumes the per-bond omega carries beta_ij too: every
       // family sum (m, theta, force, tangent, stable step) then weighs
@@ -112,10 +111,10 @@ namespace perideal
           for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
             {
               const unsigned int j  = state.bonds.neighbor[b];
-              const double       ex = X[3 * j] - X[3 * i], ey = X[3 * j + 1] - X[3 * i + 1],
-                           ez = X[3 * j + 2] - X[3 * i + 2];
-              const double r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
-              double       w  = omega0;
+              const auto         xi = state.cloud.bond_vector(i, j);
+              const double       ex = xi[0], ey = xi[1], ez = xi[2];
+              const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+              double             w  = omega0;
               if (!constant_influence)
                 {
                   // Partial volumes add bonds up to a cell radius beyond the
@@ -180,15 +179,17 @@ namespace perideal
     compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
       // Compile-time variants keep the bond loop free of branches.
-      if (state.breaking)
-        constant_influence ? dilatation<BondDamage::breaking, false>(state, points) :
-                             dilatation<BondDamage::breaking, true>(state, points);
-      else if (state.broken)
-        constant_influence ? dilatation<BondDamage::read, false>(state, points) :
-                             dilatation<BondDamage::read, true>(state, points);
-      else
-        constant_influence ? dilatation<BondDamage::none, false>(state, points) :
-                             dilatation<BondDamage::none, true>(state, points);
+      with_flag(!constant_influence, [&](auto weighted) {
+        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+          constexpr bool W = decltype(weighted)::value, P = decltype(periodic)::value;
+          if (state.breaking)
+            dilatation<BondDamage::breaking, W, P>(state, points);
+          else if (state.broken)
+            dilatation<BondDamage::read, W, P>(state, points);
+          else
+            dilatation<BondDamage::none, W, P>(state, points);
+        });
+      });
     }
 
     bool
@@ -219,23 +220,17 @@ namespace perideal
     void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      const bool d = state.broken != nullptr, e = state.energy != nullptr,
-                 w = !constant_influence;
       // Compile-time variants keep the bond loop free of branches.
-      if (d)
-        {
-          if (e)
-            w ? force<true, true, true>(state, points) : force<true, true, false>(state, points);
-          else
-            w ? force<true, false, true>(state, points) : force<true, false, false>(state, points);
-        }
-      else
-        {
-          if (e)
-            w ? force<false, true, true>(state, points) : force<false, true, false>(state, points);
-          else
-            w ? force<false, false, true>(state, points) : force<false, false, false>(state, points);
-        }
+      with_flag(state.broken != nullptr, [&](auto damage) {
+        with_flag(state.energy != nullptr, [&](auto energy) {
+          with_flag(!constant_influence, [&](auto weighted) {
+            with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+              force<decltype(damage)::value, decltype(energy)::value, decltype(weighted)::value,
+                    decltype(periodic)::value>(state, points);
+            });
+          });
+        });
+      });
     }
 
     double
@@ -246,7 +241,6 @@ namespace perideal
       //                   + 6 |gamma_i| A_i^2 / m_i                        (own dilatation)
       //                   + 6 sum_j omega |xi| V_j |gamma_j| A_j / m_j     (neighbors' dilatation)
       // with A_i = sum_j omega |xi| V_j; the central difference limit is 2/sqrt(lambda).
-      const double     *X     = state.cloud.X.data();
       const double     *V     = state.cloud.volume.data();
       const VectorType &beta  = state.fields.get("lps_beta");
       const VectorType &gamma = state.fields.get("lps_gamma");
@@ -259,10 +253,8 @@ namespace perideal
           for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
             {
               const unsigned int j  = state.bonds.neighbor[b];
-              const double       ex = X[3 * j] - X[3 * i], ey = X[3 * j + 1] - X[3 * i + 1],
-                           ez = X[3 * j + 2] - X[3 * i + 2];
-              const double r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
-              const double w  = constant_influence ? omega0 : omega[b];
+              const double       r0 = state.cloud.bond_vector(i, j).norm();
+              const double       w  = constant_influence ? omega0 : omega[b];
               pair += (beta.local_element(i) + beta.local_element(j)) * w * V[j];
               Ai += w * r0 * V[j];
               neighbors += w * r0 * V[j] * D.local_element(j);
@@ -291,7 +283,6 @@ namespace perideal
       //                  row j:  K_jl =  V_j q_j g_l^T,        K_ji = -V_j q_j G^T
       // Row j of f_j through theta_i uses bond j->i with the weight of i->j:
       // families must be symmetric (the solver checks the horizons).
-      const double *X     = state.cloud.X.data();
       const double *V     = state.cloud.volume.data();
       const double *u     = state.u;
       const double *m     = state.fields.get("weighted_volume").begin();
@@ -319,7 +310,7 @@ namespace perideal
               if (state.broken)
                 w *= 1.0 - state.broken[b];
               double xi[3], y[3];
-              const auto [r0, r] = bond_geometry(X, u, i, j, xi, y);
+              const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
               const double h     = w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * (r - r0));
               w_r0[k]            = w * r0;
               for (unsigned int d = 0; d < 3; ++d)
@@ -382,10 +373,11 @@ namespace perideal
     bool                        energy_weighted = false; // weight_energy() scaled the fields
     bool                        surface_correction = false;
 
-    template <BondDamage mode, bool weighted>
+    template <BondDamage mode, bool weighted, bool periodic>
     void
     dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
     {
+      const Periodicity   box      = state.cloud.periodicity;
       const double       *X        = state.cloud.X.data();
       const double       *V        = state.cloud.volume.data();
       const double       *u        = state.u;
@@ -402,19 +394,15 @@ namespace perideal
       std::size_t         newly_broken = 0;
       for (const unsigned int i : points)
         {
-          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
-          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
-          // both owners of a bond see the same length.
-          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
-          double       sum = 0;
+          const BondOrigin origin(X, u, i);
+          double           sum = 0;
 #pragma omp simd reduction(+ : sum, newly_broken)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
-              const unsigned int j    = neighbor[b];
-              const double       ex   = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
-              const double       dx   = (X[3 * j] + u[3 * j]) - pi;
-              const double       dy   = (X[3 * j + 1] + u[3 * j + 1]) - qi;
-              const double       dz   = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const unsigned int j = neighbor[b];
+              double             e[3], y[3];
+              bond_vectors<periodic>(X, u, j, origin, box, e, y);
+              const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
               const double       r0sq = ex * ex + ey * ey + ez * ez;
               const double       rsq  = dx * dx + dy * dy + dz * dz;
               if (mode == BondDamage::breaking)
@@ -433,10 +421,11 @@ namespace perideal
         state.breaking->newly_broken += newly_broken;
     }
 
-    template <bool damage, bool energy, bool weighted>
+    template <bool damage, bool energy, bool weighted, bool periodic>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const
     {
+      const Periodicity   box      = state.cloud.periodicity;
       const double       *X        = state.cloud.X.data();
       const double       *V        = state.cloud.volume.data();
       const double       *u        = state.u;
@@ -452,21 +441,17 @@ namespace perideal
       double             *f        = state.force;
       for (const unsigned int i : points)
         {
-          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
-          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
-          // both owners of a bond see the same length.
-          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
-          const double ai = alpha[i], bi = beta[i];
-          const double third_theta = theta[i] / 3;
-          double       fx = 0, fy = 0, fz = 0, Wd = 0;
+          const BondOrigin origin(X, u, i);
+          const double     ai = alpha[i], bi = beta[i];
+          const double     third_theta = theta[i] / 3;
+          double           fx = 0, fy = 0, fz = 0, Wd = 0;
 #pragma omp simd reduction(+ : fx, fy, fz, Wd)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
-              const unsigned int j  = neighbor[b];
-              const double       ex = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
-              const double       dx = (X[3 * j] + u[3 * j]) - pi;
-              const double       dy = (X[3 * j + 1] + u[3 * j + 1]) - qi;
-              const double       dz = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const unsigned int j = neighbor[b];
+              double             ev[3], y[3];
+              bond_vectors<periodic>(X, u, j, origin, box, ev, y);
+              const double ex = ev[0], ey = ev[1], ez = ev[2], dx = y[0], dy = y[1], dz = y[2];
               const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
               const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
               const double       e  = r - r0;

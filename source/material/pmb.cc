@@ -157,7 +157,6 @@ namespace perideal
       //   d(s M)/dy = M M^T / |xi| + s (I - M M^T) / |y|,
       // A_ij = c (1 - d) V_j d(s M)/dy; K_ij = -V_i A_ij, K_ii = V_i sum_j A_ij.
       const VectorType  &c = state.fields.get("pmb_micromodulus");
-      const double      *X = state.cloud.X.data();
       const double      *V = state.cloud.volume.data();
       const double      *u = state.u;
       std::vector<unsigned int> cols;
@@ -176,7 +175,7 @@ namespace perideal
               if (state.broken && state.broken[b])
                 continue;
               double xi[3], y[3];
-              const auto [r0, r] = bond_geometry(X, u, i, j, xi, y);
+              const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
               const double s     = (r - r0) / r0;
               const double cv = 0.5 * (c.local_element(i) + c.local_element(j)) * V[j] * state.bonds.fraction(b) * V[i];
               for (unsigned int p = 0; p < 3; ++p)
@@ -203,13 +202,11 @@ namespace perideal
     static double
     family_sum(const ModelState &state, const unsigned int i, const Function &f)
     {
-      const double *X   = state.cloud.X.data();
-      double        sum = 0;
+      double sum = 0;
       for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
         {
-          const unsigned int j  = state.bonds.neighbor[b];
-          const double       dx = X[3 * j] - X[3 * i], dy = X[3 * j + 1] - X[3 * i + 1], dz = X[3 * j + 2] - X[3 * i + 2];
-          sum += f(j, std::sqrt(dx * dx + dy * dy + dz * dz), state.cloud.volume[j] * state.bonds.fraction(b));
+          const unsigned int j = state.bonds.neighbor[b];
+          sum += f(j, state.cloud.bond_vector(i, j).norm(), state.cloud.volume[j] * state.bonds.fraction(b));
         }
       return sum;
     }
@@ -236,19 +233,25 @@ namespace perideal
     void
     dispatch(const bool uniform, const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c) const
     {
-      if (!state.bonds.volume_fraction.empty())
-        state.energy ? kernel<false, mode, true, true>(state, points, c) :
-                       kernel<false, mode, false, true>(state, points, c);
-      else if (uniform)
-        state.energy ? kernel<true, mode, true>(state, points, c) : kernel<true, mode, false>(state, points, c);
-      else
-        state.energy ? kernel<false, mode, true>(state, points, c) : kernel<false, mode, false>(state, points, c);
+      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+        constexpr bool P = decltype(periodic)::value;
+        if (!state.bonds.volume_fraction.empty())
+          state.energy ? kernel<false, mode, true, true, P>(state, points, c) :
+                         kernel<false, mode, false, true, P>(state, points, c);
+        else if (uniform)
+          state.energy ? kernel<true, mode, true, false, P>(state, points, c) :
+                         kernel<true, mode, false, false, P>(state, points, c);
+        else
+          state.energy ? kernel<false, mode, true, false, P>(state, points, c) :
+                         kernel<false, mode, false, false, P>(state, points, c);
+      });
     }
 
-    template <bool uniform_c, BondDamage mode, bool energy, bool partial = false>
+    template <bool uniform_c, BondDamage mode, bool energy, bool partial, bool periodic>
     void
     kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
     {
+      const Periodicity   box      = state.cloud.periodicity;
       const double       *X        = state.cloud.X.data();
       const double       *V        = state.cloud.volume.data();
       const double       *u        = state.u;
@@ -266,19 +269,15 @@ namespace perideal
 
       for (const unsigned int i : points)
         {
-          const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
-          // y_j - y_i with y = X + u is exactly antisymmetric in floating point:
-          // both owners of a bond see the same length.
-          const double pi = xi + u[3 * i], qi = yi + u[3 * i + 1], ri = zi + u[3 * i + 2];
-          double       fx = 0, fy = 0, fz = 0, w = 0;
+          const BondOrigin origin(X, u, i);
+          double           fx = 0, fy = 0, fz = 0, w = 0;
 #pragma omp simd reduction(+ : fx, fy, fz, w, newly_broken)
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
-              const unsigned int j   = neighbor[b];
-              const double       ex  = X[3 * j] - xi, ey = X[3 * j + 1] - yi, ez = X[3 * j + 2] - zi;
-              const double       dx  = (X[3 * j] + u[3 * j]) - pi;
-              const double       dy  = (X[3 * j + 1] + u[3 * j + 1]) - qi;
-              const double       dz  = (X[3 * j + 2] + u[3 * j + 2]) - ri;
+              const unsigned int j = neighbor[b];
+              double             e[3], y[3];
+              bond_vectors<periodic>(X, u, j, origin, box, e, y);
+              const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
               const double       r0sq = ex * ex + ey * ey + ez * ez;
               const double       rsq  = dx * dx + dy * dy + dz * dz;
               if (mode == BondDamage::breaking)

@@ -5,6 +5,8 @@
 #include <deal.II/numerics/rtree.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <sstream>
 
 namespace perideal
@@ -45,27 +47,73 @@ namespace perideal
     // every model): a mesh with duplicated or overlapping cells.
     unsigned int coincident = 0;
     Point<dim>   first_coincident;
+    // A periodic direction: a family near one face continues through the
+    // opposite one. One period must hold two horizons, or a point would
+    // meet another one twice (as itself and as its image).
+    const Periodicity &periodic = cloud.periodicity;
+    const bool         wrap     = periodic.any();
+    if (wrap)
+      {
+        double largest = 0;
+        for (const double delta : block_horizon)
+          largest = std::max(largest, delta * (1 + horizon_tolerance) + extra_reach);
+        for (unsigned int d = 0; d < dim; ++d)
+          if (periodic.length[d] > 0 && !(2 * largest < periodic.length[d]))
+            {
+              std::ostringstream message;
+              message << "Discretization/Periodic directions: the period along " << "xyz"[d] << " ("
+                      << periodic.length[d] << ") must exceed twice the reach of a family (the horizon"
+                      << (extra_reach > 0 ? " plus the largest cell radius" : "") << ", 2 x " << largest
+                      << "): make the box longer or the horizon shorter";
+              AssertThrow(false, ExcMessage(message.str()));
+            }
+      }
     for (unsigned int i = 0; i < n_owned; ++i)
       {
         bonds.offsets[i]    = bonds.neighbor.size();
         const double     delta = block_horizon[cloud.block[i]];
         const double     reach = delta * (1 + horizon_tolerance) + extra_reach;
         const Point<dim> x     = points[i];
-        Point<dim>       lo = x, hi = x;
+        // The search boxes: around x and, near a periodic face, around x
+        // moved one period back through it (every combination of faces).
+        std::array<std::array<double, 3>, dim> shifts{};
+        std::array<unsigned int, dim>          n_shifts{};
         for (unsigned int d = 0; d < dim; ++d)
-          lo[d] -= reach, hi[d] += reach;
+          {
+            n_shifts[d] = 1;
+            if (periodic.length[d] > 0 && x[d] + reach > periodic.upper[d])
+              shifts[d][n_shifts[d]++] = -periodic.length[d];
+            if (periodic.length[d] > 0 && x[d] - reach < periodic.lower[d])
+              shifts[d][n_shifts[d]++] = periodic.length[d];
+          }
         candidates.clear();
-        tree.query(bgi::intersects(BoundingBox<dim>({lo, hi})),
-                   std::back_inserter(candidates));
+        for (unsigned int a = 0; a < n_shifts[0]; ++a)
+          for (unsigned int b = 0; b < n_shifts[1]; ++b)
+            for (unsigned int c = 0; c < n_shifts[2]; ++c)
+              {
+                const Point<dim> center = x + Point<dim>(shifts[0][a], shifts[1][b], shifts[2][c]);
+                Point<dim>       lo = center, hi = center;
+                for (unsigned int d = 0; d < dim; ++d)
+                  lo[d] -= reach, hi[d] += reach;
+                tree.query(bgi::intersects(BoundingBox<dim>({lo, hi})), std::back_inserter(candidates));
+              }
         const std::size_t begin = bonds.neighbor.size();
         for (const unsigned int j : candidates)
-          if (j != i && x.distance_square(points[j]) <= reach * reach)
-            {
-              if (x.distance(points[j]) <= 1e-9 * delta && coincident++ == 0)
-                first_coincident = x;
-              bonds.neighbor.push_back(j);
-              used[j] = true;
-            }
+          {
+            if (j == i)
+              continue;
+            double e[3] = {points[j][0] - x[0], points[j][1] - x[1], points[j][2] - x[2]};
+            if (wrap)
+              periodic.wrap(e[0], e[1], e[2]);
+            const double r2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+            if (r2 <= reach * reach)
+              {
+                if (std::sqrt(r2) <= 1e-9 * delta && coincident++ == 0)
+                  first_coincident = x;
+                bonds.neighbor.push_back(j);
+                used[j] = true;
+              }
+          }
         std::sort(bonds.neighbor.begin() + begin,
                   bonds.neighbor.end(),
                   [&](unsigned int a, unsigned int b) {

@@ -220,14 +220,26 @@ namespace perideal
               const bool   forward = cloud.key[i] < cloud.key[j];
               const unsigned int first = forward ? i : j, other = forward ? j : i;
               OffsetKey key{unsigned(shape[i]), delta_i, {}};
+              const auto e = cloud.bond_vector(other, first);
               for (unsigned int d = 0; d < dim; ++d)
-                key.q[d] = quantize(cloud.X[3 * first + d] - cloud.X[3 * other + d]);
+                key.q[d] = quantize(e[d]);
               beta = share_of_shape(key);
             }
           else
-            // Both owners add the same two numbers; a + b == b + a exactly.
-            beta = 0.5 * (volume_in_ball(v + 24 * j, cloud.position(i), delta_i) / cloud.volume[j] +
-                          volume_in_ball(v + 24 * i, cloud.position(j), delta_j) / cloud.volume[i]);
+            {
+              // Each ball's center as seen from the other cell: across a
+              // periodic face that is the image one period away.
+              Point<dim> center_i = cloud.position(i), center_j = cloud.position(j);
+              if (cloud.periodicity.any())
+                {
+                  const auto e = cloud.bond_vector(i, j);
+                  center_i     = center_j - e;
+                  center_j     = cloud.position(i) + e;
+                }
+              // Both owners add the same two numbers; a + b == b + a exactly.
+              beta = 0.5 * (volume_in_ball(v + 24 * j, center_i, delta_i) / cloud.volume[j] +
+                            volume_in_ball(v + 24 * i, center_j, delta_j) / cloud.volume[i]);
+            }
           bonds.volume_fraction[b] = static_cast<float>(std::min(1.0, beta));
         }
     bonds.keep_if_bond(cloud.n_owned(), [&](unsigned int, const std::size_t b) { return bonds.volume_fraction[b] > 0; });

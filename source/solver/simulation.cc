@@ -613,8 +613,12 @@ namespace perideal
         max_horizon = std::max(max_horizon, b.horizon);
       // Free the previous partition's points and bonds first: a rebuild must
       // not raise the peak memory.
-      cloud = PointCloud();
-      bonds = Bonds();
+      cloud             = PointCloud();
+      bonds             = Bonds();
+      cloud.periodicity = scene.periodicity(triangulation);
+      AssertThrow(!(has_continuum && cloud.periodicity.any()),
+                  ExcMessage("Discretization/Periodic directions: not available with continuum blocks, whose FE "
+                             "field would need periodic constraints: make every block Peridynamic"));
       if (has_continuum)
         build_coupled_cloud(block_of, max_horizon);
       else
@@ -663,9 +667,15 @@ namespace perideal
   Simulation::apply_bond_filters()
   {
     filtered_bonds.assign(bond_filters.size(), 0);
+    const bool periodic = cloud.periodicity.any();
     bonds.keep_if(cloud.n_owned(), [&](const unsigned int i, const unsigned int j) {
+      // Across a periodic face the bond has two images, one at each end's
+      // face; either cut cuts it, so that both owners decide alike.
+      const Point<dim> xi = cloud.position(i), xj = cloud.position(j);
+      const auto       e  = cloud.bond_vector(i, j);
       for (unsigned int f = 0; f < bond_filters.size(); ++f)
-        if (bond_filters[f].cuts(cloud.position(i), cloud.position(j)))
+        if (periodic ? bond_filters[f].cuts(xi, xi + e) || bond_filters[f].cuts(xj - e, xj) :
+                       bond_filters[f].cuts(xi, xj))
           {
             ++filtered_bonds[f];
             return false;
@@ -1339,6 +1349,14 @@ namespace perideal
                                       " (directed; family size " + std::to_string(min_family) + " to " +
                                         std::to_string(max_family) + ")")
           << "\n";
+    if (cloud.periodicity.any())
+      {
+        pcout << "  periodic:         ";
+        for (unsigned int d = 0; d < dim; ++d)
+          if (cloud.periodicity.length[d] > 0)
+            pcout << " " << "xyz"[d] << " (period " << cloud.periodicity.length[d] << ")";
+        pcout << "\n";
+      }
     for (unsigned int f = 0; f < bond_filters.size(); ++f)
       pcout << "  bond filter '" << bond_filters[f].name << "': " << filtered_bonds[f] << " directed bonds cut"
             << (filtered_bonds[f] == 0 ? " (none: check its corner, vectors and lengths; the side runs along "
@@ -1512,18 +1530,18 @@ namespace perideal
   Simulation::point_stretch(const unsigned int i) const
   {
     double       largest = -std::numeric_limits<double>::max();
-    const double *X = cloud.X.data(), *u = displacement.begin();
+    const double *u = displacement.begin();
     for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
       {
         if (!broken.empty() && broken[b])
           continue;
-        const unsigned int j = bonds.neighbor[b];
+        const unsigned int j  = bonds.neighbor[b];
+        const auto         xi = cloud.bond_vector(i, j);
         double             r0 = 0, r = 0;
         for (unsigned int d = 0; d < dim; ++d)
           {
-            const double xi = X[dim * j + d] - X[dim * i + d];
-            const double y  = xi + u[dim * j + d] - u[dim * i + d];
-            r0 += xi * xi;
+            const double y = xi[d] + u[dim * j + d] - u[dim * i + d];
+            r0 += xi[d] * xi[d];
             r += y * y;
           }
         largest = std::max(largest, std::sqrt(r / r0) - 1);

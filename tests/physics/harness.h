@@ -55,7 +55,8 @@ namespace pdtest
             const double                       horizon,
             const MaterialSpec                &spec,
             const std::function<double(const Point<3> &)> &energy_weight = {},
-            const bool                                     partial_volumes = false)
+            const bool                                     partial_volumes = false,
+            const std::array<bool, 3>                     &periodic        = {{false, false, false}})
       : comm(comm)
       , horizon(horizon)
       , triangulation(comm)
@@ -68,8 +69,10 @@ namespace pdtest
       scene.upper        = upper;
       scene.subdivisions = subdivisions;
       scene.horizon      = horizon;
+      scene.periodic     = periodic;
       scene.create_triangulation(triangulation);
       dof_handler.distribute_dofs(fe);
+      cloud.periodicity = scene.periodicity(triangulation);
 
       cloud.build(dof_handler, [](const perideal::CellIterator &) { return 0; }, horizon, comm, {},
                   partial_volumes);

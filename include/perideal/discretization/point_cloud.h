@@ -12,6 +12,7 @@
 // ghost set.
 
 #include <perideal/base/input.h>
+#include <perideal/geometry/periodicity.h>
 
 #include <deal.II/base/partitioner.h>
 #include <deal.II/base/point.h>
@@ -46,6 +47,9 @@ namespace perideal
      * With @p cell_geometry, every point (ghosts too) also carries the 8
      * vertices of its cell in cell_vertices, and the ghost reach grows by
      * the largest cell radius (max_cell_radius): what partial volumes need.
+     *
+     * Set periodicity first: a point near a periodic face is then also a
+     * ghost candidate of the ranks near the opposite face.
      */
     void
     build(const dealii::DoFHandler<dim>                         &dof_handler,
@@ -98,6 +102,17 @@ namespace perideal
     std::vector<CellIterator>                    cell;   // owned points only: the cell holding the point
     std::vector<double> cell_vertices;   // with cell geometry only (set-up): 8 vertices x dim per point
     double              max_cell_radius = 0; // with cell geometry: the largest centroid-to-vertex distance
+    Periodicity         periodicity;         // bond vectors are wrap(X_j - X_i) where periodic
+
+    /// The reference bond vector i -> j (the minimum image where periodic).
+    dealii::Tensor<1, dim>
+    bond_vector(const unsigned int i, const unsigned int j) const
+    {
+      double e[3] = {X[3 * j] - X[3 * i], X[3 * j + 1] - X[3 * i + 1], X[3 * j + 2] - X[3 * i + 2]};
+      if (periodicity.any())
+        periodicity.wrap(e[0], e[1], e[2]);
+      return dealii::Tensor<1, dim>({e[0], e[1], e[2]});
+    }
 
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> scalar_partitioner;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> vector_partitioner;

@@ -4,6 +4,7 @@
 // material id of a cell is its block number in the mesh.
 
 #include <perideal/base/input.h>
+#include <perideal/geometry/periodicity.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/distributed/tria.h>
@@ -25,6 +26,10 @@ namespace perideal
     void
     create_triangulation(dealii::parallel::distributed::Triangulation<dim> &tria) const;
 
+    /// The period box of the periodic directions: the coarse mesh's bounding box.
+    Periodicity
+    periodicity(const dealii::parallel::distributed::Triangulation<dim> &tria) const;
+
     /// A typical cell size, for messages and defaults.
     double
     typical_spacing() const;
@@ -32,6 +37,7 @@ namespace perideal
     std::string type;
     double      horizon         = 0;
     bool        partial_volumes = false; // neighbors count with their cell's share inside the horizon
+    std::array<bool, 3> periodic{{false, false, false}}; // Periodic directions
     std::vector<std::string>  refinement_regions; // applied by the Simulation, which knows the regions
     std::vector<unsigned int> refinement_levels;
 

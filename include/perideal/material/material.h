@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <type_traits>
 #include <utility>
 #include <string>
 #include <vector>
@@ -85,17 +86,72 @@ namespace perideal
     return newly;
   }
 
-  /// Bond i->j: xi = X_j - X_i and y = xi + u_j - u_i; returns {|xi|, |y|}.
-  /// For set-up and tangents; the force loops keep their own fused arithmetic.
+  /// Bond i->j: xi = X_j - X_i (its minimum image where periodic) and
+  /// y = xi + u_j - u_i; returns {|xi|, |y|}. For set-up and tangents; the
+  /// force loops keep their own fused arithmetic.
   inline std::pair<double, double>
-  bond_geometry(const double *X, const double *u, const unsigned int i, const unsigned int j, double *xi, double *y)
+  bond_geometry(const PointCloud &cloud, const double *u, const unsigned int i, const unsigned int j, double *xi,
+                double *y)
   {
+    const double *X = cloud.X.data();
     for (unsigned int d = 0; d < 3; ++d)
-      {
-        xi[d] = X[3 * j + d] - X[3 * i + d];
-        y[d]  = xi[d] + u[3 * j + d] - u[3 * i + d];
-      }
+      xi[d] = X[3 * j + d] - X[3 * i + d];
+    if (cloud.periodicity.any())
+      cloud.periodicity.wrap(xi[0], xi[1], xi[2]);
+    for (unsigned int d = 0; d < 3; ++d)
+      y[d] = xi[d] + u[3 * j + d] - u[3 * i + d];
     return {std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]), std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])};
+  }
+
+  /// The owner's side of a hot bond loop, hoisted out of the loop over its family.
+  struct BondOrigin
+  {
+    double x[3], y[3], u[3]; // X_i, X_i + u_i, u_i
+
+    BondOrigin(const double *X, const double *disp, const unsigned int i)
+    {
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          x[d] = X[3 * i + d];
+          u[d] = disp[3 * i + d];
+          y[d] = x[d] + u[d];
+        }
+    }
+  };
+
+  /// Bond i -> j in the hot loops: e = X_j - X_i and d = y_j - y_i, both
+  /// exactly antisymmetric in floating point, so both owners of a bond see the
+  /// same lengths. Open: d = (X_j + u_j) - (X_i + u_i). Periodic (a compile-time
+  /// variant, so an open scene pays nothing): e is the minimum image and
+  /// d = e + (u_j - u_i).
+  template <bool periodic>
+  inline void
+  bond_vectors(const double *X, const double *u, const unsigned int j, const BondOrigin &o, const Periodicity &box,
+               double (&e)[3], double (&d)[3])
+  {
+    for (unsigned int k = 0; k < 3; ++k)
+      e[k] = X[3 * j + k] - o.x[k];
+    if constexpr (periodic)
+      {
+        box.wrap(e[0], e[1], e[2]);
+        for (unsigned int k = 0; k < 3; ++k)
+          d[k] = e[k] + (u[3 * j + k] - o.u[k]);
+      }
+    else
+      for (unsigned int k = 0; k < 3; ++k)
+        d[k] = (X[3 * j + k] + u[3 * j + k]) - o.y[k];
+  }
+
+  /// Calls @p f with std::true_type or std::false_type: turns a run-time flag
+  /// into a compile-time kernel variant.
+  template <typename F>
+  inline void
+  with_flag(const bool flag, const F &f)
+  {
+    if (flag)
+      f(std::true_type());
+    else
+      f(std::false_type());
   }
 
   /// What a material's bond loop does with bond damage: nothing (no damage
