@@ -7,8 +7,9 @@ Usage:
   SCENE is one of
     bar         static uniaxial bar, quasistatic solver; displacement error in
                 the middle of the bar and axial stiffness, against eps x / E A
-    dispersion  standing longitudinal wave (uniaxial strain), Verlet; the
-                measured angular frequency against the PD dispersion relation
+    dispersion  standing longitudinal plane wave in a periodic box (an
+                unbounded body), Verlet; the measured angular frequency against
+                the PD dispersion relation and the lattice's own
     surface     free cube under a homogeneous deformation; strain energy
                 against the continuum's (the PD surface effect)
     fracture    a block split along a plane with rigid halves; energy of the
@@ -377,33 +378,56 @@ class Dispersion:
     name = "dispersion"
     plotted = ["omega_err_cl", "omega_err"]
     primary = {"a": "omega_err_cl", "b": "omega_err"}
-    what = "standing wave u_x = cos(k x) in a bar 1 x 0.2 x 0.2 with u_y = u_z = 0 (uniaxial strain), Verlet"
-    resolutions = {"a": [4, 6, 8, 12], "b": [4, 6, 8, 10]}
-    quick = {"a": [4, 6], "b": [4, 6]}
+    what = ("standing plane wave u_x = cos(k x) in a box 2 x W x W periodic in x, y, z (an unbounded body, no "
+            "surface), Verlet")
+    resolutions = {"a": [20, 40, 80, 160], "b": [20, 30, 40, 50]}  # cells per unit length; h = 1/res
+    quick = {"a": [20, 40], "b": [20, 30]}
     delta_b = 0.1
     variants = {
         "pmb": ([], "PMB, k = pi"),
         "pmb-energy": ([SC], "PMB, Surface correction = Energy, k = pi"),
         "pmb-k3": (["@MODE=3"], "PMB, k = 3 pi"),
-        "pmb-energy-k3": ([SC, "@MODE=3"], "PMB, Surface correction = Energy, k = 3 pi"),
         "pmb-pv": ([PV], "PMB, partial volumes, k = pi"),
         "pmb-pv-k3": ([PV, "@MODE=3"], "PMB, partial volumes, k = 3 pi"),
+        "pmb-pv-k6": ([PV, "@MODE=6"], "PMB, partial volumes, k = 6 pi"),
     }
-    default = ["pmb", "pmb-energy", "pmb-pv", "pmb-k3", "pmb-energy-k3", "pmb-pv-k3"]
+    default = ["pmb", "pmb-energy", "pmb-pv", "pmb-k3", "pmb-pv-k3", "pmb-pv-k6"]
 
-
-    def values(self, seq, ny, mode=1):
-        h = 0.2 / ny
+    def values(self, seq, res, mode=1):
+        h = 1.0 / res
         delta = M_FIXED * h if seq == "a" else self.delta_b
         k = mode * math.pi
+        # The section holds two reaches of a family (horizon plus a cell
+        # radius, what partial volumes add), so no point meets another twice.
+        nw = int(math.floor(2 * (delta / h + 0.87))) + 1
         period = 2 * math.pi / math.sqrt(pmb_dispersion_omega2(k, delta))
         # Two zero crossings of the probe (T/4 and 3T/4) with room for a
         # frequency up to 25% below the reference.
-        return h, delta, dict(NX=5 * ny, NY=ny, HORIZON="%.10g" % delta, K="%.15g" % k, FINAL="%.6g" % (1.3 * period),
-                              MODE=mode)
+        return h, delta, dict(NX=2 * res, NW=nw, W="%.15g" % (nw * h), HORIZON="%.10g" % delta, K="%.15g" % k,
+                              FINAL="%.6g" % (1.3 * period), MODE=mode)
+
+    @staticmethod
+    def lattice_omega2(k, h, delta, K=1.0, rho=1.0):
+        """omega^2 of the same plane wave on the cubic lattice of spacing h
+        with whole cells (the families pd_app builds: |xi| <= delta (1 + 1e-9)):
+          rho omega^2 = sum_j c xi_x^2/|xi|^3 (1 - cos(k xi_x)) h^3,
+        the lattice sum the continuum relation's integral approximates. A
+        plane wave is an exact mode of the periodic lattice."""
+        c = 18 * K / (math.pi * delta ** 4)
+        reach = delta * (1 + 1e-9)
+        n = int(math.floor(reach / h))
+        total = 0.0
+        for a in range(-n, n + 1):
+            for b in range(-n, n + 1):
+                for cc in range(-n, n + 1):
+                    r2 = (a * a + b * b + cc * cc) * h * h
+                    if 0 < r2 <= reach * reach:
+                        x = a * h
+                        total += c * x * x / r2 ** 1.5 * (1 - math.cos(k * x)) * h ** 3
+        return total / rho
 
     def measure(self, case, rows):
-        k, delta = float(case["values"]["K"]), float(case["values"]["HORIZON"])
+        k, delta, h = float(case["values"]["K"]), float(case["values"]["HORIZON"]), case["h"]
         t, q = [r["time"] for r in rows], [r["probe"] for r in rows]
         cross = [t[i - 1] + (t[i] - t[i - 1]) * q[i - 1] / (q[i - 1] - q[i]) for i in range(1, len(q))
                  if (q[i - 1] > 0) != (q[i] > 0)]
@@ -412,26 +436,45 @@ class Dispersion:
         omega = math.pi / (cross[1] - cross[0])
         w_pd = math.sqrt(pmb_dispersion_omega2(k, delta))
         w_cl = math.sqrt(1.8) * k
-        return [("omega_err_cl", abs(omega / w_cl - 1), True), ("omega_err", abs(omega / w_pd - 1), True),
-                ("omega/omega_PD-1", omega / w_pd - 1, False),
-                ("omega_PD/omega_cl-1", w_pd / w_cl - 1, False)]
+        out = [("omega_err_cl", abs(omega / w_cl - 1), True), ("omega_err", abs(omega / w_pd - 1), True),
+               ("omega/omega_PD-1", omega / w_pd - 1, False), ("omega_PD/omega_cl-1", w_pd / w_cl - 1, False)]
+        # Whole cells without a correction: the lattice's own relation, seen
+        # through Verlet (sin(omega_V dt/2) = omega dt/2 for a linear mode),
+        # checks the implementation to round-off.
+        plain = not any("Partial volumes" in o or "Surface correction" in o for o in case["overrides"])
+        lat = float("nan")
+        if plain:
+            dt = t[1] - t[0]
+            w_lat = math.sqrt(self.lattice_omega2(k, h, delta))
+            lat = omega / (2 / dt * math.asin(w_lat * dt / 2)) - 1
+        out.append(("omega/omega_lattice-1", lat, False))
+        return out
 
     def selfcheck(self):
         """The reference itself: the long-wave limit is the P-wave speed
         sqrt(9K/5 / rho), and the first correction is -(20/504)(k delta)^2 / 2
-        in omega (J(a) = a^2/5 - a^4/84 + ...)."""
+        in omega (J(a) = a^2/5 - a^4/84 + ...); the lattice sum at large m
+        approaches the integral."""
         out = []
         for kd, want in ((1e-3, 1.0), (0.1, 1 - 10 / 504 * 0.01)):
             got = math.sqrt(pmb_dispersion_omega2(kd / 0.1, 0.1) / 1.8) / (kd / 0.1)
             out.append(("omega_PD/(sqrt(9K/5) k) at k delta = %g" % kd, got, want, 1e-6))
+        out.append(("lattice/continuum omega^2 at m = 12, k delta = 0.94",
+                    self.lattice_omega2(3 * math.pi, 0.1 / 12, 0.1) / pmb_dispersion_omega2(3 * math.pi, 0.1), 1.0,
+                    0.02))
         return out
 
-    # Bands on the quick resolutions (ny = 4, 6; measured omega/omega_PD - 1:
-    # -0.172, -0.109 (pmb), +0.157, +0.088 (pmb-energy)).
+    # Bands on the quick resolutions (res = 20, 40 (a); 20, 30 (b)). Measured:
+    # a-pmb omega/omega_lattice - 1 = -3.3e-6, 1.4e-7; omega/omega_PD - 1 =
+    # 0.0185, 0.0178; b-pmb-pv omega/omega_PD - 1 = 0.029, 0.0112, rate 2.3.
     checks = [
-        ("a", "pmb", "omega/omega_PD-1", 1, -0.14, -0.08, "free long faces: the mode is softer, O(delta/W)"),
-        ("a", "pmb", "rate:omega_err", 1, 0.8, 1.5, "omega error ~ delta at fixed m"),
-        ("a", "pmb-energy", "omega/omega_PD-1", 1, 0.06, 0.12, "the energy correction overshoots the axial stiffness"),
+        ("a", "pmb", "omega/omega_lattice-1", 0, -1e-5, 1e-5,
+         "a plane wave is an exact mode of the periodic lattice: its lattice sum, seen through Verlet"),
+        ("a", "pmb", "omega/omega_lattice-1", 1, -1e-5, 1e-5, "the same at h/2"),
+        ("a", "pmb", "omega/omega_PD-1", 1, 0.015, 0.021,
+         "the lattice quadrature of m = 3.015 (whole cells): fixed m does not converge to the PD relation"),
+        ("b", "pmb-pv", "omega/omega_PD-1", 1, 0.008, 0.015, "partial volumes at m = 3, fixed delta"),
+        ("b", "pmb-pv", "rate:omega_err", 1, 1.5, 3.5, "partial volumes converge to the PD relation at fixed delta"),
     ]
 
 
