@@ -41,12 +41,18 @@ namespace perideal
     /// antisymmetric in floating point (rint and the rounding of e - L n are
     /// odd), so both owners of a bond see the same length. Vectorizes (one
     /// multiply, round and fused multiply-subtract per component).
+    double
+    wrapped(const double e, const unsigned int d) const
+    {
+      return e - length[d] * std::rint(e * inverse[d]);
+    }
+
     void
     wrap(double &ex, double &ey, double &ez) const
     {
-      ex -= length[0] * std::rint(ex * inverse[0]);
-      ey -= length[1] * std::rint(ey * inverse[1]);
-      ez -= length[2] * std::rint(ez * inverse[2]);
+      ex = wrapped(ex, 0);
+      ey = wrapped(ey, 1);
+      ez = wrapped(ez, 2);
     }
   };
 } // namespace perideal

@@ -129,17 +129,21 @@ namespace perideal
   bond_vectors(const double *X, const double *u, const unsigned int j, const BondOrigin &o, const Periodicity &box,
                double (&e)[3], double (&d)[3])
   {
+    // Scalar by scalar: passing e[k] by reference to the wrap keeps GCC from
+    // vectorizing the bond loop.
     for (unsigned int k = 0; k < 3; ++k)
-      e[k] = X[3 * j + k] - o.x[k];
-    if constexpr (periodic)
       {
-        box.wrap(e[0], e[1], e[2]);
-        for (unsigned int k = 0; k < 3; ++k)
-          d[k] = e[k] + (u[3 * j + k] - o.u[k]);
+        if constexpr (periodic)
+          {
+            e[k] = box.wrapped(X[3 * j + k] - o.x[k], k);
+            d[k] = e[k] + (u[3 * j + k] - o.u[k]);
+          }
+        else
+          {
+            e[k] = X[3 * j + k] - o.x[k];
+            d[k] = (X[3 * j + k] + u[3 * j + k]) - o.y[k];
+          }
       }
-    else
-      for (unsigned int k = 0; k < 3; ++k)
-        d[k] = (X[3 * j + k] + u[3 * j + k]) - o.y[k];
   }
 
   /// Calls @p f with std::true_type or std::false_type: turns a run-time flag
