@@ -1,7 +1,8 @@
 #pragma once
 // What the checker programs of the pd_app tests share (check_quasistatic,
-// tests/stability/check_stability): a failure count, the PASS/FAIL line, the
-// globals CSV as rows of named columns. Serial; no MPI.
+// tests/stability/check_stability): a failure count, the PASS/FAIL line and
+// the verdict, command-line values, the globals CSV as rows of named columns.
+// Serial; no MPI.
 
 #include <cstdlib>
 #include <fstream>
@@ -36,6 +37,24 @@ namespace check_common
     std::cout << name << " = " << str(value, digits) << "  (" << bound << ")  " << (ok ? "PASS" : "FAIL") << "\n";
     if (!ok)
       ++failures;
+  }
+
+  /// Prints the verdict line and returns the exit code (0: all passed, 1: a
+  /// check failed).
+  inline int
+  finish()
+  {
+    std::cout << (failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED") << std::endl;
+    return failures == 0 ? 0 : 1;
+  }
+
+  /// The next command-line value for option @p option (advancing @p a).
+  inline std::string
+  next_argument(const int argc, char **argv, int &a, const std::string &option)
+  {
+    if (a + 1 >= argc)
+      throw std::runtime_error(option + " needs a value");
+    return argv[++a];
   }
 
   /// The rows of a CSV file with a header line; a line with fewer entries

@@ -243,11 +243,7 @@ main(int argc, char *argv[])
       for (int a = 1; a < argc; ++a)
         {
           const std::string arg = argv[a];
-          const auto        next = [&]() -> std::string {
-            if (a + 1 >= argc)
-              throw std::runtime_error(arg + " needs a value");
-            return argv[++a];
-          };
+          const auto        next = [&]() { return check_common::next_argument(argc, argv, a, arg); };
           if (arg == "--csv")
             csv = next();
           else if (arg == "--stdout")
@@ -353,6 +349,5 @@ main(int argc, char *argv[])
       std::cout << "Error: " << e.what() << std::endl;
       return 2;
     }
-  std::cout << (failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED") << std::endl;
-  return failures == 0 ? 0 : 1;
+  return check_common::finish();
 }

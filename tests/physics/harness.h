@@ -324,6 +324,36 @@ namespace pdtest
     bool root;
   };
 
+  /// The family of an interior point of the cubic lattice of spacing @p h
+  /// (whole cells, |xi| <= horizon (1 + 1e-9), as pd_app's search) and its
+  /// weighted volume m = sum |xi|^2 V (omega = 1).
+  struct Lattice
+  {
+    std::vector<Tensor<1, 3>> xi;
+    double                    m = 0;
+  };
+
+  inline Lattice
+  complete_family(const double h, const double horizon, const double V)
+  {
+    Lattice   L;
+    const int n     = int(std::ceil(horizon / h)) + 1;
+    const double r2 = std::pow(horizon * (1 + 1e-9), 2);
+    for (int a = -n; a <= n; ++a)
+      for (int b = -n; b <= n; ++b)
+        for (int c = -n; c <= n; ++c)
+          {
+            Tensor<1, 3> x;
+            x[0] = a * h, x[1] = b * h, x[2] = c * h;
+            if ((a || b || c) && x.norm_square() <= r2)
+              {
+                L.xi.push_back(x);
+                L.m += x.norm_square() * V;
+              }
+          }
+    return L;
+  }
+
   /// The main() of a check program: MPI, a Report for @p body, and the exit
   /// code (0: every check passed, 1: a check failed, 2: an exception).
   inline int

@@ -102,11 +102,7 @@ main(int argc, char *argv[])
       for (int a = 1; a < argc; ++a)
         {
           const std::string arg  = argv[a];
-          const auto        next = [&]() -> std::string {
-            if (a + 1 >= argc)
-              throw std::runtime_error(arg + " needs more values");
-            return argv[++a];
-          };
+          const auto        next = [&]() { return check_common::next_argument(argc, argv, a, arg); };
           const auto number = [&]() { return std::strtod(next().c_str(), nullptr); };
           if (arg == "--csv")
             next();
@@ -178,6 +174,5 @@ main(int argc, char *argv[])
       std::cout << "Error: " << e.what() << std::endl;
       return 2;
     }
-  std::cout << (failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED") << std::endl;
-  return failures == 0 ? 0 : 1;
+  return check_common::finish();
 }
