@@ -1,10 +1,13 @@
 #include <perideal/base/expression.h>
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
 
 #include <muParser.h>
 
 #include <cmath>
+#include <sstream>
 
 namespace perideal
 {
@@ -67,6 +70,7 @@ namespace perideal
     , seed(seed_)
     , parser(std::make_unique<mu::Parser>())
     , vars(new double[4]{0, 0, 0, 0})
+    , variable_names(variables)
   {
     AssertThrow(!expression.empty(),
                 dealii::ExcMessage(where + ": the expression is empty"));
@@ -110,7 +114,10 @@ namespace perideal
     random_state.calls = 0;
     try
       {
-        return parser->Eval();
+        const double result = parser->Eval();
+        if (!std::isfinite(result) && !first_nonfinite.any)
+          first_nonfinite = {true, result, x, t};
+        return result;
       }
     catch (const mu::Parser::exception_type &e)
       {
@@ -125,5 +132,36 @@ namespace perideal
   Expression::depends_on_time() const
   {
     return uses_t;
+  }
+
+  std::string
+  Expression::nonfinite_message() const
+  {
+    std::ostringstream m;
+    m.precision(6);
+    m << where << ": '" << expression << "' is not finite at ";
+    const double at[4] = {first_nonfinite.x[0], first_nonfinite.x[1], first_nonfinite.x[2], first_nonfinite.t};
+    for (unsigned int v = 0; v < variable_names.size() && v < 4; ++v)
+      m << (v > 0 ? ", " : "") << variable_names[v] << " = " << at[v];
+    m << " (it gives " << first_nonfinite.value << ")";
+    return m.str();
+  }
+
+  void
+  check_finite(const std::vector<const Expression *> &expressions, const MPI_Comm comm)
+  {
+    unsigned int first = expressions.size();
+    for (unsigned int e = 0; e < expressions.size() && first == expressions.size(); ++e)
+      if (expressions[e] != nullptr && expressions[e]->gave_nonfinite())
+        first = e;
+    const unsigned int bad = dealii::Utilities::MPI::min(first, comm);
+    if (bad == expressions.size())
+      return;
+    // The lowest rank that saw it names the point, on every rank.
+    const unsigned int rank  = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned int owner = dealii::Utilities::MPI::min(first == bad ? rank : dealii::numbers::invalid_unsigned_int, comm);
+    const std::string  message =
+      dealii::Utilities::MPI::broadcast(comm, rank == owner ? expressions[bad]->nonfinite_message() : std::string(), owner);
+    AssertThrow(false, dealii::ExcMessage(message));
   }
 } // namespace perideal

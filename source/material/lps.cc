@@ -122,7 +122,7 @@ namespace perideal
                   const double r = std::min(r0 / horizon, 1.0);
                   w = influence->value(Point<dim>(r, 0, 0), 0);
                   AssertThrow(std::isfinite(w) && w >= 0,
-                              ExcMessage("LPS influence function '" + influence->text() +
+                              ExcMessage(influence->key() + ": '" + influence->text() +
                                          "' is negative or not finite at r = " + std::to_string(r)));
                   if (partial)
                     w *= state.bonds.volume_fraction[b];

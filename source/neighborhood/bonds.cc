@@ -74,6 +74,9 @@ namespace perideal
         const double     delta = block_horizon[cloud.block[i]];
         const double     reach = delta * (1 + horizon_tolerance) + extra_reach;
         const Point<dim> x     = points[i];
+        // Coincident: closer than a millionth of the point's own cell size
+        // (not of the horizon, which may be far larger than the cells).
+        const double same_place = std::min(1e-9 * delta, 1e-6 * std::cbrt(cloud.volume[i]));
         // The search boxes: around x and, near a periodic face, around x
         // moved one period back through it (every combination of faces).
         std::array<std::array<double, 3>, dim> shifts{};
@@ -108,7 +111,7 @@ namespace perideal
             const double r2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
             if (r2 <= reach * reach)
               {
-                if (std::sqrt(r2) <= 1e-9 * delta && coincident++ == 0)
+                if (std::sqrt(r2) <= same_place && coincident++ == 0)
                   first_coincident = x;
                 bonds.neighbor.push_back(j);
                 used[j] = true;
@@ -133,8 +136,8 @@ namespace perideal
         std::ostringstream where;
         where << p;
         AssertThrow(false,
-                    ExcMessage(std::to_string(n_coincident) + " bonds join points at the same place (within 1e-9 "
-                               "horizons), the first at (" + where.str() + "): the mesh has duplicated or "
+                    ExcMessage(std::to_string(n_coincident) + " bonds join points at the same place (closer than 1e-6 "
+                               "of a cell's size), the first at (" + where.str() + "): the mesh has duplicated or "
                                "overlapping cells"));
       }
 

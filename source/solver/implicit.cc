@@ -14,6 +14,7 @@
 
 #include <perideal/solver/coupled_tangent.h>
 #include <perideal/solver/implicit.h>
+#include <perideal/solver/rigid_modes.h>
 #include <perideal/solver/simulation.h>
 
 #include <deal.II/base/mpi.h>
@@ -209,15 +210,6 @@ namespace perideal
       for (unsigned int d = 0; d < dim; ++d)
         centre[d] = s[dim] > 0 ? s[d] / s[dim] : 0.0;
     }
-    // Mode m at an entry of component c at x (relative to the centre).
-    const auto mode_value = [](const unsigned int m, const unsigned int c, const double x, const double y,
-                               const double z) {
-      if (m < dim)
-        return m == c ? 1.0 : 0.0;
-      // Rotations about x, y and z.
-      const double r[3][3] = {{0, -z, y}, {z, 0, -x}, {-y, x, 0}};
-      return r[m - dim][c];
-    };
     const unsigned int n = unknowns.size();
     rigid_modes.assign(6 * n, 0.0);
     double extent = 0;
@@ -227,22 +219,14 @@ namespace perideal
         const double x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
         extent = std::max({extent, std::abs(x), std::abs(y), std::abs(z)});
         for (unsigned int mode = 0; mode < 6; ++mode)
-          rigid_modes[mode * n + k] = mode_value(mode, c, x, y, z);
+          rigid_modes[mode * n + k] = rigid_mode_value(mode, c, x, y, z);
       }
     extent = Utilities::MPI::max(extent, comm);
-    // A mode is removed if a prescribed entry moves with it.
-    std::array<double, 6> restrained{{0, 0, 0, 0, 0, 0}};
-    for (const auto &[p, c] : prescribed)
-      for (unsigned int mode = 0; mode < 6; ++mode)
-        restrained[mode] = std::max(restrained[mode], std::abs(mode_value(mode, c, p[0] - centre[0], p[1] - centre[1],
-                                                                          p[2] - centre[2])));
-    Utilities::MPI::max(ArrayView<const double>(restrained.data(), 6), comm, ArrayView<double>(restrained.data(), 6));
-    const char *mode_name[6] = {"translation in x", "translation in y", "translation in z",
-                                "rotation about x",  "rotation about y",  "rotation about z"};
+    // A motion is removed if a prescribed entry moves with it; a hinge or
+    // a single held point leaves combinations of the coordinate modes free.
     std::string free_modes;
-    for (unsigned int mode = 0; mode < 6; ++mode)
-      if (restrained[mode] <= 1e-9 * (mode < 3 ? 1 : extent))
-        free_modes += (free_modes.empty() ? "" : ", ") + std::string(mode_name[mode]);
+    for (const auto &mode : free_rigid_modes(prescribed, centre, extent, comm))
+      free_modes += (free_modes.empty() ? "" : ", ") + mode;
     AssertThrow(!need_supports || free_modes.empty(),
                 ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
                            "motion(s) " + free_modes + ". Prescribe displacements (Type = Prescribed "

@@ -504,6 +504,15 @@ namespace perideal
 
   // -------------------------------------------------------------------- set-up
 
+  void
+  Simulation::check_region_expressions() const
+  {
+    std::vector<const Expression *> expressions;
+    for (const auto &[name, region] : regions)
+      expressions.push_back(region->user_expression());
+    check_finite(expressions, comm);
+  }
+
   int
   Simulation::block_of_cell(const CellIterator &cell) const
   {
@@ -553,6 +562,7 @@ namespace perideal
                   cell->set_refine_flag();
           triangulation.execute_coarsening_and_refinement();
         }
+      check_region_expressions();
     }
     build_points_and_bonds();
 
@@ -855,7 +865,16 @@ namespace perideal
               if (compute.uses_node(node.component) && in_region(compute.region, node.x, node.cell))
                 compute.nodes.push_back(k);
             }
+        // Over nothing, a Minimum is +1.8e308, a Mean 0: numbers that look
+        // like results. A compute over an empty region is a mistake.
+        AssertThrow(Utilities::MPI::sum(compute.points.size() + compute.nodes.size(), comm) > 0,
+                    ExcMessage("Computes/" + compute.name + "/Region: the region '" + compute.region +
+                               "' holds no point" + (has_continuum ? " or FE node" : "") +
+                               " of the body, so '" + compute.operation + "' of " + compute.variable +
+                               " over it has no value: check Discretization/Regions/" + compute.region +
+                               " against the mesh's extent"));
       }
+    check_region_expressions();
     constraints.clear();
     {
       // A later condition on the same component of the same point wins.
@@ -906,11 +925,36 @@ namespace perideal
   {
     ModelState state{cloud, bonds, nullptr, displacement.begin(), force.begin(), nullptr, *fields};
     double     local = std::numeric_limits<double>::max();
-    for (const auto &b : blocks)
-      if (!b.points.empty() && !b.continuum) // virtual points carry no mass: the FE nodes do
-        local = std::min(local, b.material->stable_time_step(state, b.points));
+    // Constants each within double's range can still overflow in the force
+    // law (K / horizon^4, sqrt(K / rho)): refuse them here, naming them,
+    // before they surface as a blow-up blamed on the loading.
+    std::vector<unsigned int> bad(blocks.size(), 0);
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      {
+        const Block &b = blocks[k];
+        if (!b.points.empty() && !b.continuum) // virtual points carry no mass: the FE nodes do
+          {
+            const double dt_block = b.material->stable_time_step(state, b.points);
+            // The largest double: no point of the block has any stiffness.
+            bad[k] = !(dt_block > 0 && dt_block < std::numeric_limits<double>::max());
+            local                 = std::min(local, dt_block);
+          }
+      }
+    Utilities::MPI::max(bad, comm, bad);
+    const double fe = has_continuum ? continuum->stable_time_step() : std::numeric_limits<double>::max();
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      {
+        const Block &b = blocks[k];
+        AssertThrow(!bad[k] && (!b.continuum || (fe > 0 && fe < std::numeric_limits<double>::max())),
+                    ExcMessage("Materials/" + b.material_name + ": in block '" + b.name + "' (horizon " +
+                               sci(b.horizon) + ") its constants (Bulk modulus " + sci(b.material->bulk_modulus()) +
+                               ", Shear modulus " + sci(b.material->shear_modulus()) + ", Density " +
+                               sci(b.material->density()) + ") give no finite stable time step: the force law " +
+                               "leaves the range of double (the micromodulus is about 18 K / (pi horizon^4)). " +
+                               "Give the constants and lengths in units that keep them nearer to 1 (e.g. MPa, mm)"));
+      }
     const double pd = Utilities::MPI::min(local, comm);
-    return has_continuum ? std::min(pd, continuum->stable_time_step()) : pd;
+    return has_continuum ? std::min(pd, fe) : pd;
   }
 
   // ------------------------------------------------------------------- physics
@@ -1064,7 +1108,14 @@ namespace perideal
   {
     // Collective: the offending point may live on one rank only.
     const unsigned int bad = Utilities::MPI::max(bad_local, comm);
-    AssertThrow(bad == 0,
+    if (bad == 0)
+      return;
+    // The expressions remember where they first failed: name that point.
+    std::vector<const Expression *> values;
+    for (const auto &bc : conditions)
+      values.push_back(bc.value.get());
+    check_finite(values, comm);
+    AssertThrow(false,
                 ExcMessage("Boundary conditions/" + conditions[bad - 1].name + "/Value: '" +
                            conditions[bad - 1].value->text() + "' is not finite at some of its points at t = " +
                            sci(time, 6)));
@@ -1202,6 +1253,13 @@ namespace perideal
         else
           row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm, node_value, node_volume));
       }
+    {
+      // A Reference that is NaN somewhere would write nan in every row.
+      std::vector<const Expression *> references;
+      for (const auto &compute : computes)
+        references.push_back(compute.reference.get());
+      check_finite(references, comm);
+    }
     if (solver_type != "Verlet")
       {
         row.emplace_back("newton_iterations", last_newton.newton_iterations);

@@ -5,6 +5,7 @@
 // point's rank-independent key, the seed and the call's position in the
 // expression, so the same point gets the same number on any number of ranks.
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 
 #include <cstdint>
@@ -41,10 +42,30 @@ namespace perideal
     bool
     depends_on_time() const;
 
+    /// Whether value() has returned a value that is not finite (NaN, inf)
+    /// on this rank; the first such evaluation is kept for the message.
+    bool
+    gave_nonfinite() const
+    {
+      return first_nonfinite.any;
+    }
+
+    /// "where: 'text' is not finite at x = .., y = .., z = .., t = .. (it gives nan)"
+    /// for the first non-finite value seen on this rank.
+    std::string
+    nonfinite_message() const;
+
     const std::string &
     text() const
     {
       return expression;
+    }
+
+    /// The key it was read from, e.g. "Boundary conditions/vx/Value".
+    const std::string &
+    key() const
+    {
+      return where;
     }
 
   private:
@@ -54,7 +75,24 @@ namespace perideal
     std::unique_ptr<mu::Parser> parser;
     std::unique_ptr<double[]>  vars; // x, y, z, t (stable addresses for muparser)
     bool                       uses_t = false;
+    std::vector<std::string>   variable_names;
+    struct NonFinite
+    {
+      bool             any = false;
+      double           value = 0;
+      dealii::Point<3> x;
+      double           t = 0;
+    };
+    mutable NonFinite first_nonfinite;
   };
+
+  /// Collective over @p comm: if one of @p expressions has given a value that
+  /// is not finite on some rank, throws ExcMessage naming the first such
+  /// expression of the list, its text and the point (the lowest such rank's
+  /// first). User expressions are evaluated over each rank's own points, so
+  /// the check must be collective to stop every rank alike.
+  void
+  check_finite(const std::vector<const Expression *> &expressions, const MPI_Comm comm);
 
   /// splitmix64: a fast, well-mixed 64-bit hash.
   std::uint64_t

@@ -27,6 +27,14 @@ namespace perideal
     contains(const dealii::Point<dim>                               &x,
              const dealii::DoFHandler<dim>::active_cell_iterator &cell) const;
 
+    /// The expression of an Expression region (nullptr otherwise), for the
+    /// collective check of its values (check_finite()).
+    const Expression *
+    user_expression() const
+    {
+      return expression.get();
+    }
+
     std::string name;
 
   private:

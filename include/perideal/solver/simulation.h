@@ -92,6 +92,10 @@ namespace perideal
     {
       return region == "All" || regions.at(region)->contains(x, cell);
     }
+    /// Collective: stops if a region's expression was not finite at a point
+    /// it was asked about (NaN would silently put the point inside).
+    void
+    check_region_expressions() const;
     /// The block that claims @p cell (the first whose region or material ids
     /// hold it), -1 if none.
     int
