@@ -552,6 +552,13 @@ namespace perideal
                                  "and the refinement work on hexahedra): " + make_hexahedra));
         }
 
+      // The coordinates the run uses (times Scale) must be finite.
+      for (const auto &[tag, p] : mesh.nodes)
+        AssertThrow(std::isfinite(scale * p.norm()),
+                    ExcMessage(where + ": node " + std::to_string(tag) + " at " + point_string(p) +
+                               " times Discretization/Gmsh/Scale (" + to_string_short(scale) +
+                               ") is not a finite point"));
+
       // deal.II's vertex order from Gmsh's: Gmsh goes around each face.
       constexpr std::array<unsigned int, 8> gmsh_vertex = {{0, 1, 3, 2, 4, 5, 7, 6}};
       const double g = 0.5 / std::sqrt(3.);
