@@ -107,8 +107,8 @@ namespace perideal
         std::ifstream in(file);
         if (!in)
           return false;
-        chain.push_back({file, canonical(file)});
         const std::size_t depth = path.size();
+        chain.push_back({file, canonical(file), depth});
         std::string       raw, logical;
         unsigned int      line_n = 0, logical_n = 0;
         bool              continued = false;
@@ -145,6 +145,7 @@ namespace perideal
       {
         std::string           name;
         std::filesystem::path canonical;
+        std::size_t           depth; // subsections open when it was included
       };
       struct Level
       {
@@ -202,7 +203,9 @@ namespace perideal
           }
         if (starts("end", "END"))
           {
-            if (!dealii::Utilities::trim(line.substr(3)).empty() || path.size() == 1)
+            // deal.II: an 'end' with more on the line, or one leaving a
+            // subsection the file did not enter (unbalanced at its end).
+            if (!dealii::Utilities::trim(line.substr(3)).empty() || path.size() <= chain.back().depth)
               return false;
             path.pop_back();
             return true;
