@@ -55,7 +55,14 @@ namespace perideal
     prm.leave_subsection();
   }
 
-  /// Reads @p filename into @p prm. With @p strict false, keys not declared
+  /// Checks the parameter file @p filename before deal.II reads it: a
+  /// regular file (checked without opening it), no include cycle, no key set
+  /// twice in a subsection, no subsection given twice at one level. Throws
+  /// ExcMessage naming the file and line(s).
+  void
+  check_parameter_file(const std::string &filename);
+
+  /// Reads @p filename into @p prm (after check_parameter_file). With @p strict false, keys not declared
   /// yet are skipped (an early pass). Errors name the file and the line.
   void
   parse_input_file(ParameterHandler  &prm,
