@@ -10,7 +10,9 @@ namespace perideal
   void
   RegionCompute::declare_parameters(ParameterHandler &prm)
   {
-    prm.declare_entry("Region", "All", Patterns::Anything(), "Name of a region of Discretization/Regions, or All.");
+    prm.declare_entry("Region", "All", Patterns::Anything(),
+                      "Name of a region of Discretization/Regions, or All. It must hold at least one point "
+                      "(or FE node): over nothing a compute has no value, and the run stops.");
     prm.declare_entry("Variable", "Displacement x",
                       Patterns::Selection("Displacement x|Displacement y|Displacement z|Force x|Force y|Force z|"
                                         "Position x|Position y|Position z|Damage|Bond stretch|Kinetic energy"),

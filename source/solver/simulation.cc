@@ -1565,6 +1565,14 @@ namespace perideal
   {
     const auto row = global_quantities(0, time);
     initial_energy = row[2].second + row[3].second;
+    // Far from t = 0 a double cannot hold t + dt: time would stall (t + dt
+    // == t) or advance in steps other than dt, silently. 1e-10 leaves each
+    // step's time exact to 1e-6 of dt.
+    const double latest = std::max(std::abs(time), std::abs(time + n_steps * dt));
+    AssertThrow(dt > 1e-10 * latest,
+                ExcMessage("Solver/Initial time: at t = " + sci(latest, 6) + " the time step " + sci(dt, 6) +
+                           " is below the resolution of the time (1e-10 of t): t + dt would not be t plus the "
+                           "step. Count the time from 0 (Initial time = 0, Final time = the duration)"));
     if (output.is_output_step(0, n_steps))
       write_output(0, time, output.is_globals_step(0, n_steps), output.is_field_step(0, n_steps));
   }
