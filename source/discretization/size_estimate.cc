@@ -179,8 +179,10 @@ namespace perideal
               << num(std::floor(max_countable_cells()))
               << " this deal.II build can number (32-bit types::global_dof_index, 3 degrees of freedom per cell)";
     message << ". ";
+    const std::string fewer =
+      cells_key.find("Refinement") != std::string::npos ? "fewer refinement levels" : "fewer cells";
     if (too_many)
-      message << "More ranks do not help: use fewer cells (" << cells_key << ")";
+      message << "More ranks do not help: use " << fewer << " (" << cells_key << ")";
     else if (coarse >= have)
       message << "The coarse mesh alone takes " << gib(coarse)
               << " on every rank (p4est keeps it whole), so more ranks do not help: use fewer cells"
@@ -194,9 +196,9 @@ namespace perideal
         const double more_ranks  = std::ceil(distributed / (have - coarse));
         message << "Use at least " << num(more_ranks) << " ranks with this memory each";
         if (bonds_dominate)
-          message << ", a smaller horizon (" << horizon_key << ") or fewer cells (" << cells_key << ")";
+          message << ", a smaller horizon (" << horizon_key << ") or " << fewer << " (" << cells_key << ")";
         else
-          message << ", fewer cells (" << cells_key << ") or a smaller horizon (" << horizon_key << ")";
+          message << ", " << fewer << " (" << cells_key << ") or a smaller horizon (" << horizon_key << ")";
       }
     AssertThrow(false, ExcMessage(message.str()));
   }

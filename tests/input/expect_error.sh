@@ -10,19 +10,19 @@
 # -v KIB: run COMMAND with its virtual memory limited to KIB kibibytes
 #     (ulimit -v, RLIMIT_AS, inherited by mpirun's ranks): a scene too large
 #     must be refused, not allocated.
-# -o REGEX: standard output must match REGEX too (extended).
+# -o REGEX: standard output must match REGEX too (extended; may be repeated).
 # Prints the command's output either way, so that ctest --output-on-failure
 # shows what happened.
 set -uo pipefail
 
 mode=-E
 limit=
-stdout_pattern=
+stdout_patterns=()
 while [[ $# -gt 0 ]]; do
   case $1 in
     -F) mode=-F; shift ;;
     -v) limit=$2; shift 2 ;;
-    -o) stdout_pattern=$2; shift 2 ;;
+    -o) stdout_patterns+=("$2"); shift 2 ;;
     *) break ;;
   esac
 done
@@ -56,6 +56,7 @@ fail() {
 [[ $rc -lt 128 ]] || fail "exit code $rc: a crash or a signal, not a clean error"
 grep -q '^Error: ' "$err" || fail "no line starting with 'Error: ' on standard error"
 grep -q $mode -e "$pattern" "$err" || fail "standard error does not match: $pattern"
-[[ -z $stdout_pattern ]] || grep -q -E -e "$stdout_pattern" "$out" ||
-  fail "standard output does not match: $stdout_pattern"
+for p in ${stdout_patterns[@]+"${stdout_patterns[@]}"}; do
+  grep -q -E -e "$p" "$out" || fail "standard output does not match: $p"
+done
 echo "PASS: exit code $rc and the expected message"
