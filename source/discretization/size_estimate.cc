@@ -33,8 +33,11 @@ namespace perideal
   // The constants are below these, so that the estimate is a lower bound.
 
   double
-  lattice_pairs(const std::array<double, 3> &n_in, const std::array<double, 3> &h_in, const double delta)
+  lattice_pairs(const std::array<double, 3> &n_in, const std::array<double, 3> &h_in, const double horizon)
   {
+    // Bonds reach horizon * (1 + horizon_tolerance = 1e-9): a neighbour at
+    // exactly 3 h counts even where 0.3 / 0.1 rounds to 2.9999999999999996.
+    const double delta = horizon * (1 + 1e-10);
     // The axis with the longest reach is summed in closed form; the other
     // two are looped over, in blocks of offsets when their reach is long.
     std::array<unsigned int, 3> axis{{0, 1, 2}};
