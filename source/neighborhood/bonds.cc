@@ -35,7 +35,9 @@ namespace perideal
     for (unsigned int i = 0; i < n_owned; ++i)
       {
         const double reach = block_horizon[cloud.block[i]] + extra_reach;
-        expected += 4.19 * reach * reach * reach / cloud.volume[i];
+        // No family holds more than the points there are (a horizon that
+        // spans the scene would otherwise reserve beyond any memory).
+        expected += std::min(4.19 * reach * reach * reach / cloud.volume[i], double(n_local) / 1.1);
       }
 
     Bonds bonds;

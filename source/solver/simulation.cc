@@ -1,4 +1,5 @@
 #include <perideal/base/memory.h>
+#include <perideal/discretization/size_estimate.h>
 #include <perideal/neighborhood/partial_volumes.h>
 #include <perideal/solver/simulation.h>
 
@@ -537,7 +538,14 @@ namespace perideal
     const auto start = std::chrono::steady_clock::now();
     {
       TimerOutput::Scope t(timer, "setup: mesh and points");
+      // The size before allocating it (size_check.cc): a built-in scene from
+      // its parameters, a Gmsh mesh once read (bounded by the file's size).
+      const AvailableMemory available = available_memory(comm);
+      report_p4est_out_of_memory();
+      check_scene_size(available);
       scene.create_triangulation(triangulation);
+      if (scene.type == "Gmsh")
+        check_mesh_size(available, "the mesh", "Discretization/Gmsh/Mesh file");
       for (const auto &name : scene.refinement_regions)
         AssertThrow(regions.count(name) || name == "All",
                     ExcMessage("Discretization/Refinement regions: '" + name +
@@ -552,6 +560,23 @@ namespace perideal
         if (cell->is_locally_owned())
           base = std::min(base, cell->level());
       base = -Utilities::MPI::max(-base, comm);
+      // The deepest level a cell can reach: p8est counts at most P8EST_QMAXLEVEL.
+      // (Refinement levels <= 6 and a box's own <= 6: a guard for larger ones.)
+      const int deepest = base + int(most);
+      AssertThrow(most == 0 || deepest <= 18,
+                  ExcMessage("Discretization/Refinement levels: the cells would reach refinement level " +
+                             std::to_string(deepest) + " (the scene's own " + std::to_string(base) + " plus " +
+                             std::to_string(most) + "), beyond p4est's limit P8EST_QMAXLEVEL = 18: use fewer levels"));
+      // Region All refines every cell: 8^levels times the cells, known now.
+      unsigned int everywhere = 0;
+      for (unsigned int r = 0; r < scene.refinement_regions.size(); ++r)
+        if (scene.refinement_regions[r] == "All")
+          everywhere = std::max(everywhere, scene.refinement_levels[r]);
+      if (everywhere > 0)
+        check_mesh_size(available,
+                        "refining every cell " + std::to_string(everywhere) + " times (region All, to level " +
+                          std::to_string(base + everywhere) + ")",
+                        "Discretization/Refinement levels", std::pow(8.0, everywhere));
       for (unsigned int level = 0; level < most; ++level)
         {
           for (const auto &cell : dof_handler.active_cell_iterators())
@@ -560,9 +585,16 @@ namespace perideal
                 if (scene.refinement_levels[r] > level && cell->level() == base + int(level) &&
                     in_region(scene.refinement_regions[r], cell->center(), cell))
                   cell->set_refine_flag();
+          // 8 cells for each flagged one: the size before p4est allocates it.
+          check_mesh_size(available,
+                          "refinement pass " + std::to_string(level + 1) + " of " + std::to_string(most) +
+                            " (to level " + std::to_string(base + level + 1) + ")",
+                          "Discretization/Refinement levels");
           triangulation.execute_coarsening_and_refinement();
         }
       check_region_expressions();
+      if (most > 0)
+        check_mesh_size(available, "the refined mesh", "Discretization/Refinement levels");
     }
     build_points_and_bonds();
 
@@ -1542,8 +1574,15 @@ namespace perideal
   void
   Simulation::dry_run()
   {
+    dry_run_mode = true;
     setup();
     print_setup_report();
+    {
+      const AvailableMemory available = available_memory(comm);
+      if (std::isfinite(available.bytes_per_rank))
+        pcout << "  memory available:  " << mib(available.bytes_per_rank) << " per rank (" << available.limited_by
+              << ")\n";
+    }
     if (solver_type != "Verlet")
       {
         setup_implicit(solver_type == "QuasiStatic");
@@ -1709,8 +1748,21 @@ namespace perideal
     unsigned int n_steps = requested_steps;
     if (n_steps == 0)
       {
-        n_steps = static_cast<unsigned int>(std::ceil((final_time - initial_time) / dt - 1e-9));
-        n_steps = std::max(1u, n_steps);
+        // Counted in double first: steps are numbered in 32 bits, and a
+        // count that wrapped would silently replace dt by another step.
+        const double steps = std::ceil((final_time - initial_time) / dt - 1e-9);
+        AssertThrow(steps <= double(std::numeric_limits<unsigned int>::max()),
+                    ExcMessage("Solver/Final time: (Final time - Initial time) / dt = (" + sci(final_time, 6) +
+                               " - " + sci(initial_time, 6) + ") / " + sci(dt, 6) +
+                               (fixed_dt > 0 ? std::string(" (Solver/Verlet/Fixed dt)") :
+                                               " (the stable time step x Solver/Verlet/Safety factor " +
+                                                 sci(safety_factor, 3) + ")") +
+                               " is " + sci(steps, 4) + " steps, more than the " +
+                               std::to_string(std::numeric_limits<unsigned int>::max()) +
+                               " a run can number: shorten the run" +
+                               (fixed_dt > 0 ? std::string(" or take a larger Fixed dt") :
+                                               std::string(" or use coarser cells (a larger stable step)"))));
+        n_steps = std::max(1u, static_cast<unsigned int>(steps));
         dt      = (final_time - initial_time) / n_steps;
       }
     output.initialize(comm);

@@ -5,6 +5,7 @@
 // initial state and the energy checks.
 
 #include <perideal/base/input.h>
+#include <perideal/base/memory.h>
 #include <perideal/compute/region_compute.h>
 #include <perideal/conditions/boundary_conditions.h>
 #include <perideal/continuum/continuum_field.h>
@@ -100,6 +101,18 @@ namespace perideal
     /// hold it), -1 if none.
     int
     block_of_cell(const CellIterator &cell) const;
+    /// Size checks (source/solver/size_check.cc): the built-in scene's cells,
+    /// points and bonds before the mesh is made, and the mesh's (with the
+    /// cells flagged for refinement) once it exists, against the memory
+    /// available; an Error naming the key if too large. Collective.
+    void
+    check_scene_size(const AvailableMemory &available) const;
+    void
+    check_mesh_size(const AvailableMemory &available, const std::string &what, const std::string &cells_key,
+                    const double descendants = 0) const; // > 0: every cell becomes this many
+    /// The horizon key of the block with the largest horizon, for messages.
+    std::string
+    horizon_key() const;
     /// DoFs, point cloud and families of the current partition.
     void
     build_points_and_bonds();
@@ -330,6 +343,7 @@ namespace perideal
     double      shortest_dt       = std::numeric_limits<double>::max();
     std::size_t broken_bond_count = 0; // directed entries, this rank
     double      startup_memory    = 0; // resident bytes before the scene is read
+    bool        dry_run_mode      = false; // --dry-run: a scene too large prints its size estimate
     double      unbalanced_bonds  = 0; // % above the mean before rebalancing, 0: not needed
     // Per block: the critical stretch its material applies in its force loop
     // (squared_limit 0: not fused, the damage model runs its own pass).
