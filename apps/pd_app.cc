@@ -1,6 +1,7 @@
 // pd_app: run a peridynamic simulation described by a deal.II parameter file.
 //   mpirun -np N pd_app params.prm
 
+#include <perideal/base/interrupt.h>
 #include <perideal/solver/simulation.h>
 
 #include <deal.II/base/mpi.h>
@@ -69,6 +70,8 @@ main(int argc, char *argv[])
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm comm = MPI_COMM_WORLD;
   const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+  // SIGTERM, SIGINT: the run stops after the current step (README, "Running").
+  perideal::install_interrupt_handlers();
 
   std::vector<std::string> args(argv + 1, argv + argc);
   bool                     dry_run = false;
@@ -118,6 +121,12 @@ main(int argc, char *argv[])
         simulation.dry_run();
       else
         simulation.run();
+    }
+  catch (const perideal::Interrupted &e)
+    {
+      // Every rank stops alike; the shell's code for the signal.
+      report_error(e.what(), comm);
+      return 128 + e.signal;
     }
   catch (const dealii::ExceptionBase &e)
     {

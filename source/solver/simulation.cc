@@ -1,6 +1,7 @@
 #include <perideal/base/memory.h>
 #include <perideal/neighborhood/partial_volumes.h>
 #include <perideal/solver/simulation.h>
+#include <perideal/base/interrupt.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
@@ -1226,10 +1227,17 @@ namespace perideal
   Simulation::write_output(const unsigned int step, const double time, const bool globals, const bool field_files)
   {
     TimerOutput::Scope t(timer, "output");
+    // The CSV row goes to disk after the step's .pvtu and .pvd: a run killed
+    // in between leaves a CSV that does not run ahead of the field series.
+    std::vector<std::pair<std::string, double>> row;
     if (globals)
-      output.write_globals(global_quantities(step, time), comm);
+      row = global_quantities(step, time);
     if (!field_files)
-      return;
+      {
+        if (globals)
+          output.write_globals(row, comm);
+        return;
+      }
 
     const unsigned int n = cloud.n_owned();
     std::vector<std::unique_ptr<Vector<double>>> cell_storage;
@@ -1308,6 +1316,8 @@ namespace perideal
                  node_acceleration);
 
     output.write_fields(dof_handler, cell_fields, vector_fields, step, time, comm);
+    if (globals)
+      output.write_globals(row, comm);
   }
 
   // ---------------------------------------------------------------- reporting
@@ -1479,12 +1489,46 @@ namespace perideal
       timer.print_wall_time_statistics(comm);
   }
 
+  void
+  Simulation::stop_if_interrupted_in_setup()
+  {
+    const int signal = interrupt_signal(comm);
+    if (signal != 0)
+      throw Interrupted(signal, "interrupted by " + signal_name(signal) +
+                                  " during set-up, before the first step: nothing written");
+  }
+
+  void
+  Simulation::stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
+                               const double loop_seconds)
+  {
+    const int signal = interrupt_signal(comm);
+    // The state at the stop goes to disk as a run's last step would: what
+    // the step's own output (with @p n_steps) did not write yet.
+    const bool wrote       = output.is_output_step(step, n_steps);
+    const bool add_globals = output.is_globals_step(step, step) && !output.is_globals_step(step, n_steps);
+    const bool add_fields  = output.is_field_step(step, step) && !output.is_field_step(step, n_steps);
+    if (!wrote)
+      compute_forces(true); // the energies (explicit steps compute them at output steps only)
+    if (add_globals || add_fields)
+      write_output(step, time, add_globals, add_fields);
+    else if (!wrote)
+      global_quantities(step, time); // the summary's energy balance
+    print_summary(loop_seconds, step);
+    throw Interrupted(signal, "interrupted by " + signal_name(signal) + " at step " + std::to_string(step) +
+                                " (t = " + sci(time, 6) + "): " +
+                                (output.is_output_step(step, step) ?
+                                   "the output holds steps up to " + std::to_string(step) :
+                                   std::string("nothing written (Output/Frequency = 0)")));
+  }
+
   // ----------------------------------------------------------------- the run
 
   void
   Simulation::dry_run()
   {
     setup();
+    stop_if_interrupted_in_setup();
     print_setup_report();
     if (solver_type != "Verlet")
       {
@@ -1628,6 +1672,7 @@ namespace perideal
   Simulation::run()
   {
     setup();
+    stop_if_interrupted_in_setup();
     print_setup_report();
     if (solver_type == "QuasiStatic")
       {
@@ -1647,6 +1692,7 @@ namespace perideal
         n_steps = std::max(1u, n_steps);
         dt      = (final_time - initial_time) / n_steps;
       }
+    stop_if_interrupted_in_setup();
     output.initialize(comm);
 
     const unsigned int n       = cloud.n_owned();
@@ -1851,10 +1897,13 @@ namespace perideal
           for (const double b : body_force)
             if (!std::isfinite(b))
               bad_condition = conditions.size(); // reported below by a collective search
-        double sums[4] = {ke, work, double(bad_condition), double(broken_bond_count - broken_so_far)};
+        // The last entry: ranks that have received SIGTERM or SIGINT (the step
+        // is finished, written if an output step, then the run stops).
+        double sums[5] = {ke, work, double(bad_condition), double(broken_bond_count - broken_so_far),
+                          local_interrupt_signal() != 0 ? 1.0 : 0.0};
         {
           TimerOutput::Scope t(timer, "global sums");
-          Utilities::MPI::sum(ArrayView<const double>(sums, 4), comm, ArrayView<double>(sums, 4));
+          Utilities::MPI::sum(ArrayView<const double>(sums, 5), comm, ArrayView<double>(sums, 5));
         }
         ke = sums[0];
         external_work += sums[1];
@@ -1943,6 +1992,12 @@ namespace perideal
         time = new_time;
         if (output_step)
           write_output(step, time, output.is_globals_step(step, steps_now), output.is_field_step(step, steps_now));
+        if (sums[4] > 0)
+          {
+            const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            dt = dt_elastic; // for the summary
+            stop_interrupted(step, time, steps_now, loop_seconds);
+          }
 
         if (adaptive || !fast_warned)
           speed = fastest_bonded_speed();

@@ -133,6 +133,15 @@ namespace perideal
     print_setup_report();
     void
     print_summary(const double loop_seconds, const unsigned int steps_done);
+    /// Interrupted runs (base/interrupt.h). Collective. During set-up: stops
+    /// if a rank has received a signal. After a completed @p step: writes it
+    /// where the output writes anything (what its output with @p n_steps did
+    /// not write already), prints the summary and throws Interrupted.
+    void
+    stop_if_interrupted_in_setup();
+    [[noreturn]] void
+    stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
+                     const double loop_seconds);
     std::string
     locate_nonfinite();
     /// Forces (and energy density) of the initial state, ghosts updated.
