@@ -4,6 +4,7 @@
 // One gather/evaluate routine (compute_forces) serves every step, the
 // initial state and the energy checks.
 
+#include <perideal/base/best_point.h>
 #include <perideal/base/input.h>
 #include <perideal/compute/region_compute.h>
 #include <perideal/conditions/boundary_conditions.h>
@@ -142,8 +143,14 @@ namespace perideal
     [[noreturn]] void
     stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
                      const double loop_seconds);
+    /// "point N at (x, y, z)": the first point (or FE DoF) with a
+    /// non-finite value, the same on any number of ranks. Collective.
     std::string
     locate_nonfinite();
+    /// The point (or FE DoF) with the largest speed (the value), the
+    /// same on every rank. Collective.
+    BestPoint
+    fastest_point() const;
     /// Forces (and energy density) of the initial state, ghosts updated.
     void
     evaluate_initial_state();
