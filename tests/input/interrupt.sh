@@ -14,6 +14,10 @@
 #   - every .pvtu's pieces exist, every .vtu is a piece of a .pvtu, and no
 #     temporary file is left,
 #   - the CSV has one row per .pvd step, the same steps.
+# SIGNAL KILL: SIGKILL to the process (to a rank under mpirun) at once, no
+# clean stop; then only the files are checked: written whole or not at all,
+# the .pvd and the .pvtu files and pieces as above (temporary files may stay),
+# the CSV at most the .pvd's last step behind it, never ahead.
 # Bounded: 60 s for the first rows, 20 s for the stop.
 set -uo pipefail
 
@@ -35,11 +39,11 @@ trap cleanup EXIT
 cd "$run" || exit 2
 fail() {
   echo "--- standard output (tail):"
-  tail -n 30 out.txt
+  tail -n 30 "$run/out.txt"
   echo "--- standard error:"
-  cat err.txt
+  cat "$run/err.txt"
   echo "--- files:"
-  ls output 2>/dev/null | tr '\n' ' '
+  ls "$run/output" 2>/dev/null | tr '\n' ' '
   echo
   echo "FAIL: $*"
   exit 1
@@ -60,7 +64,9 @@ if ! kill -0 "$pid" 2>/dev/null; then
   fail "the run ended before the signal (exit code $rc)"
 fi
 [[ -f $csv && $(wc -l <"$csv") -ge 3 ]] || fail "no globals rows after 60 s"
-kill -"$signal" "$pid"
+target=$pid
+[[ $signal == KILL && $(basename "$1") != pd_app ]] && target=$(pgrep -P "$pid" | tail -n 1)
+kill -"$signal" "$target"
 for ((i = 0; i < 200; ++i)); do
   kill -0 "$pid" 2>/dev/null || break
   sleep 0.1
@@ -74,6 +80,27 @@ pid=
 echo "exit code $rc after SIG$signal"
 
 [[ $rc -ne 0 ]] || fail "exit code 0"
+if [[ $signal == KILL ]]; then
+  cd output || fail "no output directory"
+  rm -f ./*.tmp
+  pvd_steps=$(grep -o "file=\"${base}_[0-9]*\.pvtu\"" "$base.pvd" | sed -E 's/.*_0*([0-9]+)\.pvtu"/\1/' | sort -n | tr '\n' ' ')
+  pvtu_steps=$(ls "${base}"_*.pvtu | sed -E 's/.*_0*([0-9]+)\.pvtu/\1/' | sort -n | tr '\n' ' ')
+  csv_steps=$(tail -n +2 "$base.globals.csv" | cut -d, -f1 | sort -n | tr '\n' ' ')
+  echo ".pvd steps:  $pvd_steps"
+  echo ".pvtu steps: $pvtu_steps"
+  echo "CSV steps:   $csv_steps"
+  [[ $pvd_steps == "$pvtu_steps" ]] || fail "the .pvd steps differ from the .pvtu files"
+  [[ $csv_steps == "$pvd_steps" || "$csv_steps$(awk '{print $NF}' <<<"$pvd_steps") " == "$pvd_steps" ]] ||
+    fail "the CSV steps are not those of the .pvd (or one behind)"
+  pieces=$(grep -ho 'Source="[^"]*"' ./*.pvtu | sed -E 's/Source="(.*)"/\1/' | sort)
+  for p in $pieces; do
+    [[ -s $p ]] || fail "piece $p of a .pvtu is missing"
+  done
+  vtus=$(ls ./*.vtu | sed 's|^\./||' | sort)
+  [[ $vtus == "$pieces" ]] || fail "a .vtu that no .pvtu lists"
+  echo "PASS: killed; the files written consistent"
+  exit 0
+fi
 if [[ $(basename "$1") == pd_app ]]; then
   expected=$((128 + $(kill -l "$signal")))
   [[ $rc -eq $expected ]] || fail "exit code $rc, expected $expected (128 + SIG$signal)"
