@@ -67,11 +67,12 @@ namespace
 int
 main(int argc, char *argv[])
 {
+  // SIGTERM, SIGINT: the run stops after the current step (README, "Running");
+  // before MPI's start-up, which can take a while, so that none is missed.
+  perideal::install_interrupt_handlers();
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm comm = MPI_COMM_WORLD;
   const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-  // SIGTERM, SIGINT: the run stops after the current step (README, "Running").
-  perideal::install_interrupt_handlers();
 
   std::vector<std::string> args(argv + 1, argv + argc);
   bool                     dry_run = false;
