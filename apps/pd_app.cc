@@ -67,10 +67,12 @@ namespace
 int
 main(int argc, char *argv[])
 {
-  // SIGTERM, SIGINT: the run stops after the current step (README, "Running");
-  // before MPI's start-up, which can take a while, so that none is missed.
+  // SIGTERM, SIGINT: the run stops after the current step (README, "Running").
+  // Installed before MPI's start-up, which can take a while, and again after
+  // it: under mpirun, Open MPI's start-up puts its own handlers in place.
   perideal::install_interrupt_handlers();
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  perideal::install_interrupt_handlers();
   const MPI_Comm comm = MPI_COMM_WORLD;
   const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
 
