@@ -1,6 +1,7 @@
 // pd_app: run a peridynamic simulation described by a deal.II parameter file.
 //   mpirun -np N pd_app params.prm
 
+#include <perideal/base/interrupt.h>
 #include <perideal/solver/simulation.h>
 
 #include <deal.II/base/mpi.h>
@@ -66,7 +67,12 @@ namespace
 int
 main(int argc, char *argv[])
 {
+  // SIGTERM, SIGINT: the run stops after the current step (README, "Running").
+  // Installed before MPI's start-up, which can take a while, and again after
+  // it: under mpirun, Open MPI's start-up puts its own handlers in place.
+  perideal::install_interrupt_handlers();
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  perideal::install_interrupt_handlers();
   const MPI_Comm comm = MPI_COMM_WORLD;
   const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
 
@@ -118,6 +124,12 @@ main(int argc, char *argv[])
         simulation.dry_run();
       else
         simulation.run();
+    }
+  catch (const perideal::Interrupted &e)
+    {
+      // Every rank stops alike; the shell's code for the signal.
+      report_error(e.what(), comm);
+      return 128 + e.signal;
     }
   catch (const dealii::ExceptionBase &e)
     {

@@ -125,17 +125,33 @@ namespace perideal
     const std::string  stem =
       base_name + "_" + Utilities::int_to_string(step, 6);
 
-    std::ostringstream vtu;
-    data_out.write_vtu(vtu);
-    write_file_atomically(directory + "/" + stem + "." +
-                            Utilities::int_to_string(rank, 4) + ".vtu",
-                          vtu.str());
+    // Every rank writes its piece under a temporary name; once all are
+    // complete, rank 0 gives them their names, then writes the .pvtu and the
+    // .pvd. A run killed at any moment leaves no piece of a step that is not
+    // complete (at most .tmp files), and the .pvd lists only complete steps.
+    const auto piece = [&](const unsigned int r) {
+      return stem + "." + Utilities::int_to_string(r, 4) + ".vtu";
+    };
+    {
+      std::ostringstream vtu;
+      data_out.write_vtu(vtu);
+      const std::string tmp = directory + "/" + piece(rank) + ".tmp";
+      std::ofstream     out(tmp, std::ios::binary);
+      out << vtu.str();
+      out.close();
+      AssertThrow(out, ExcMessage("cannot write the file '" + tmp + "'"));
+    }
     MPI_Barrier(comm);
     if (rank == 0)
       {
         std::vector<std::string> pieces;
         for (unsigned int r = 0; r < n_ranks; ++r)
-          pieces.push_back(stem + "." + Utilities::int_to_string(r, 4) + ".vtu");
+          {
+            pieces.push_back(piece(r));
+            const std::string name = directory + "/" + piece(r);
+            AssertThrow(std::rename((name + ".tmp").c_str(), name.c_str()) == 0,
+                        ExcMessage("cannot rename '" + name + ".tmp' to '" + name + "'"));
+          }
         std::ostringstream pvtu;
         data_out.write_pvtu_record(pvtu, pieces);
         write_file_atomically(directory + "/" + stem + ".pvtu", pvtu.str());

@@ -12,6 +12,7 @@
 // solve the damage models run, and the step is solved again while bonds break
 // (at most "Maximum damage solves" times).
 
+#include <perideal/base/interrupt.h>
 #include <perideal/solver/coupled_tangent.h>
 #include <perideal/solver/implicit.h>
 #include <perideal/solver/rigid_modes.h>
@@ -662,6 +663,7 @@ namespace perideal
     apply_initial_conditions();
     breaking_allowed = false;
     setup_implicit(true);
+    stop_if_interrupted_in_setup();
     pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
           << describe_tangent() << std::endl;
 
@@ -694,6 +696,10 @@ namespace perideal
         external_work += load_path_work(step_start);
         if (output.is_output_step(step, n_steps))
           write_output(step, time, output.is_globals_step(step, n_steps), output.is_field_step(step, n_steps));
+        // SIGTERM, SIGINT: stop after the load step (one reduction per step).
+        if (interrupt_signal(comm) != 0)
+          stop_interrupted(step, time, n_steps,
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // The energy balance needs the final strain energy.
@@ -748,6 +754,7 @@ namespace perideal
     apply_initial_conditions();
     breaking_allowed = false;
     setup_implicit(false);
+    stop_if_interrupted_in_setup();
     const unsigned int n = dim * cloud.n_owned();
     double *const      u = displacement.begin();
     double *const      v = velocity.begin();
@@ -825,6 +832,10 @@ namespace perideal
         external_work += load_path_work(step_start);
         if (output.is_output_step(step, n_steps))
           write_output(step, time, output.is_globals_step(step, n_steps), output.is_field_step(step, n_steps));
+        // SIGTERM, SIGINT: stop after the step (one reduction per step).
+        if (interrupt_signal(comm) != 0)
+          stop_interrupted(step, time, n_steps,
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear

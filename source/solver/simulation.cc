@@ -2,6 +2,8 @@
 #include <perideal/discretization/size_estimate.h>
 #include <perideal/neighborhood/partial_volumes.h>
 #include <perideal/solver/simulation.h>
+#include <perideal/base/interrupt.h>
+#include <perideal/base/best_point.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
@@ -732,28 +734,23 @@ namespace perideal
   {
     // A point without a neighbor cannot carry load: a horizon below the spacing.
     {
-      unsigned int                 isolated = 0;
-      std::array<double, dim + 1>  first{{0, 0, 0, 0}};
+      unsigned int isolated = 0;
+      BestPoint    first(BestPoint::Order::smallest); // the smallest global id
       for (unsigned int i = 0; i < cloud.n_owned(); ++i)
         if (bonds.offsets[i + 1] == bonds.offsets[i] && !is_virtual(i)) // see drop_unweighted_bonds()
           {
-            if (isolated++ == 0)
-              first = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2], double(cloud.block[i])}};
+            ++isolated;
+            first.consider(0, cloud.gid[i], &cloud.X[3 * i], BestPoint::Kind::point, cloud.block[i]);
           }
       const unsigned int total = Utilities::MPI::sum(isolated, comm);
       if (total > 0)
         {
-          // Report the first rank's first isolated point.
-          const unsigned int rank  = Utilities::MPI::this_mpi_process(comm);
-          const unsigned int owner = Utilities::MPI::min(isolated > 0 ? rank : numbers::invalid_unsigned_int, comm);
-          std::array<double, dim + 1> p = rank == owner ? first : std::array<double, dim + 1>{{0, 0, 0, 0}};
-          Utilities::MPI::sum(ArrayView<const double>(p.data(), p.size()), comm,
-                              ArrayView<double>(p.data(), p.size()));
-          const Block &block = blocks[static_cast<unsigned int>(p[3])];
+          const BestPoint p     = first.global(comm);
+          const Block    &block = blocks[static_cast<unsigned int>(p.tag)];
           AssertThrow(false,
                       ExcMessage(std::to_string(total) + " points have no neighbor within the horizon, "
-                                 "the first at (" + sci(p[0]) + ", " + sci(p[1]) + ", " + sci(p[2]) +
-                                 ") in block '" + block.name + "' with horizon " + sci(block.horizon) +
+                                 "the first " + p.describe() +
+                                 " in block '" + block.name + "' with horizon " + sci(block.horizon) +
                                  ": the horizon must exceed the point spacing (Blocks/" + block.name +
                                  "/Horizon or Discretization/Horizon)"));
         }
@@ -1316,10 +1313,17 @@ namespace perideal
   Simulation::write_output(const unsigned int step, const double time, const bool globals, const bool field_files)
   {
     TimerOutput::Scope t(timer, "output");
+    // The CSV row goes to disk after the step's .pvtu and .pvd: a run killed
+    // in between leaves a CSV that does not run ahead of the field series.
+    std::vector<std::pair<std::string, double>> row;
     if (globals)
-      output.write_globals(global_quantities(step, time), comm);
+      row = global_quantities(step, time);
     if (!field_files)
-      return;
+      {
+        if (globals)
+          output.write_globals(row, comm);
+        return;
+      }
 
     const unsigned int n = cloud.n_owned();
     std::vector<std::unique_ptr<Vector<double>>> cell_storage;
@@ -1398,6 +1402,8 @@ namespace perideal
                  node_acceleration);
 
     output.write_fields(dof_handler, cell_fields, vector_fields, step, time, comm);
+    if (globals)
+      output.write_globals(row, comm);
   }
 
   // ---------------------------------------------------------------- reporting
@@ -1569,6 +1575,39 @@ namespace perideal
       timer.print_wall_time_statistics(comm);
   }
 
+  void
+  Simulation::stop_if_interrupted_in_setup()
+  {
+    const int signal = interrupt_signal(comm);
+    if (signal != 0)
+      throw Interrupted(signal, "interrupted by " + signal_name(signal) +
+                                  " during set-up, before the first step: nothing written");
+  }
+
+  void
+  Simulation::stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
+                               const double loop_seconds)
+  {
+    const int signal = interrupt_signal(comm);
+    // The state at the stop goes to disk as a run's last step would: what
+    // the step's own output (with @p n_steps) did not write yet.
+    const bool wrote       = output.is_output_step(step, n_steps);
+    const bool add_globals = output.is_globals_step(step, step) && !output.is_globals_step(step, n_steps);
+    const bool add_fields  = output.is_field_step(step, step) && !output.is_field_step(step, n_steps);
+    if (!wrote)
+      compute_forces(true); // the energies (explicit steps compute them at output steps only)
+    if (add_globals || add_fields)
+      write_output(step, time, add_globals, add_fields);
+    else if (!wrote)
+      global_quantities(step, time); // the summary's energy balance
+    print_summary(loop_seconds, step);
+    throw Interrupted(signal, "interrupted by " + signal_name(signal) + " at step " + std::to_string(step) +
+                                " (t = " + sci(time, 6) + "): " +
+                                (output.is_output_step(step, step) ?
+                                   "the output holds steps up to " + std::to_string(step) :
+                                   std::string("nothing written (Output/Frequency = 0)")));
+  }
+
   // ----------------------------------------------------------------- the run
 
   void
@@ -1576,6 +1615,7 @@ namespace perideal
   {
     dry_run_mode = true;
     setup();
+    stop_if_interrupted_in_setup();
     print_setup_report();
     {
       const AvailableMemory available = available_memory(comm);
@@ -1705,34 +1745,56 @@ namespace perideal
     return Utilities::MPI::sum(before - strain_energy(), comm);
   }
 
+  BestPoint
+  Simulation::fastest_point() const
+  {
+    BestPoint fastest(BestPoint::Order::largest);
+    const double *v = velocity.begin();
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!is_virtual(i)) // a virtual point follows the FE nodes, looked at below
+        fastest.consider(std::hypot(v[3 * i], v[3 * i + 1], v[3 * i + 2]), cloud.gid[i], &cloud.X[3 * i]);
+    if (has_continuum) // FE nodes: one velocity component per DoF
+      for (const auto &node : continuum->nodes)
+        fastest.consider(std::abs(continuum->V.local_element(node.local)),
+                         continuum->V.get_partitioner()->local_to_global(node.local), &node.x[0],
+                         BestPoint::Kind::fe_dof);
+    return fastest.global(comm);
+  }
+
   std::string
   Simulation::locate_nonfinite()
   {
-    const unsigned int n     = cloud.n_owned();
-    double             found = std::numeric_limits<double>::max();
-    std::array<double, dim> x{{0, 0, 0}};
-    for (unsigned int i = 0; i < n && found == std::numeric_limits<double>::max(); ++i)
+    // The first point (smallest global id; then FE DoFs) with a non-finite
+    // displacement, velocity or force: the same on any number of ranks.
+    BestPoint     first(BestPoint::Order::smallest);
+    const auto    finite = [](const VectorType &w, const unsigned int k) { return std::isfinite(w.local_element(k)); };
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       for (unsigned int d = 0; d < dim; ++d)
-        if (!std::isfinite(velocity.local_element(dim * i + d)) ||
-            !std::isfinite(displacement.local_element(dim * i + d)) ||
-            !std::isfinite(force.local_element(dim * i + d)))
+        if (!finite(velocity, dim * i + d) || !finite(displacement, dim * i + d) || !finite(force, dim * i + d))
           {
-            found = cloud.gid[i];
-            x     = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2]}};
+            first.consider(0, cloud.gid[i], &cloud.X[3 * i]);
             break;
           }
-    const double first = Utilities::MPI::min(found, comm);
-    if (found != first)
-      x = {{0, 0, 0}};
-    Utilities::MPI::sum(ArrayView<const double>(x.data(), dim), comm, ArrayView<double>(x.data(), dim));
-    return "point " + std::to_string(static_cast<long long>(first)) + " at (" + sci(x[0]) + ", " +
-           sci(x[1]) + ", " + sci(x[2]) + ")";
+    if (has_continuum)
+      for (const auto &node : continuum->nodes)
+        if (!finite(continuum->U, node.local) || !finite(continuum->V, node.local) ||
+            !finite(continuum->F, node.local))
+          first.consider(0, continuum->U.get_partitioner()->local_to_global(node.local), &node.x[0],
+                         BestPoint::Kind::fe_dof);
+    const BestPoint where = first.global(comm);
+    if (where.found)
+      return where.describe();
+    // Finite values whose kinetic energy overflows.
+    const BestPoint fastest = fastest_point();
+    return "the kinetic energy overflows (no value is non-finite yet): the fastest " + fastest.describe() +
+           ", speed " + sci(fastest.value);
   }
 
   void
   Simulation::run()
   {
     setup();
+    stop_if_interrupted_in_setup();
     print_setup_report();
     if (solver_type == "QuasiStatic")
       {
@@ -1765,6 +1827,7 @@ namespace perideal
         n_steps = std::max(1u, static_cast<unsigned int>(steps));
         dt      = (final_time - initial_time) / n_steps;
       }
+    stop_if_interrupted_in_setup();
     output.initialize(comm);
 
     const unsigned int n       = cloud.n_owned();
@@ -1969,10 +2032,13 @@ namespace perideal
           for (const double b : body_force)
             if (!std::isfinite(b))
               bad_condition = conditions.size(); // reported below by a collective search
-        double sums[4] = {ke, work, double(bad_condition), double(broken_bond_count - broken_so_far)};
+        // The last entry: ranks that have received SIGTERM or SIGINT (the step
+        // is finished, written if an output step, then the run stops).
+        double sums[5] = {ke, work, double(bad_condition), double(broken_bond_count - broken_so_far),
+                          local_interrupt_signal() != 0 ? 1.0 : 0.0};
         {
           TimerOutput::Scope t(timer, "global sums");
-          Utilities::MPI::sum(ArrayView<const double>(sums, 4), comm, ArrayView<double>(sums, 4));
+          Utilities::MPI::sum(ArrayView<const double>(sums, 5), comm, ArrayView<double>(sums, 5));
         }
         ke = sums[0];
         external_work += sums[1];
@@ -2000,29 +2066,8 @@ namespace perideal
             std::string where = nonfinite ? locate_nonfinite() : "";
             if (exploding)
               {
-                // The fastest point.
-                double      vmax = 0;
-                std::array<double, dim> x{{0, 0, 0}};
-                for (unsigned int i = 0; i < n; ++i)
-                  {
-                    const double s = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
-                    if (s > vmax)
-                      vmax = s, x = {{cloud.X[3 * i], cloud.X[3 * i + 1], cloud.X[3 * i + 2]}};
-                  }
-                if (has_continuum) // FE nodes: one velocity component per DoF
-                  for (const auto &node : continuum->nodes)
-                    {
-                      const double s = std::pow(continuum->V.local_element(node.local), 2);
-                      if (s > vmax)
-                        vmax = s, x = {{node.x[0], node.x[1], node.x[2]}};
-                    }
-                const double global = Utilities::MPI::max(vmax, comm);
-                if (vmax != global)
-                  x = {{0, 0, 0}};
-                const double owners = Utilities::MPI::sum(vmax == global ? 1.0 : 0.0, comm);
-                Utilities::MPI::sum(ArrayView<const double>(x.data(), dim), comm, ArrayView<double>(x.data(), dim));
-                where = "fastest point at (" + sci(x[0] / owners) + ", " + sci(x[1] / owners) + ", " +
-                        sci(x[2] / owners) + "), speed " + sci(std::sqrt(global));
+                const BestPoint fastest = fastest_point();
+                where = "fastest " + fastest.describe() + ", speed " + sci(fastest.value);
               }
             const std::string cause =
               dt > dt_stable ?
@@ -2061,6 +2106,12 @@ namespace perideal
         time = new_time;
         if (output_step)
           write_output(step, time, output.is_globals_step(step, steps_now), output.is_field_step(step, steps_now));
+        if (sums[4] > 0)
+          {
+            const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            dt = dt_elastic; // for the summary
+            stop_interrupted(step, time, steps_now, loop_seconds);
+          }
 
         if (adaptive || !fast_warned)
           speed = fastest_bonded_speed();

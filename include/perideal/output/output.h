@@ -1,7 +1,11 @@
 #pragma once
 // Field output (one .vtu per rank and output step, a .pvtu per step, a .pvd
 // series) and the CSV of global quantities. Files are written whole or not at
-// all: each goes to a temporary name and is renamed when complete.
+// all: each goes to a temporary name and is renamed when complete; a step's
+// .vtu pieces get their names only when every rank has written its own, then
+// the .pvtu and the .pvd follow (Simulation::write_output appends the CSV row
+// after them), so a run killed at any moment leaves the .pvd listing complete
+// steps only, no piece of another step, and a CSV never ahead of the .pvd.
 
 #include <perideal/base/input.h>
 

@@ -4,6 +4,7 @@
 // One gather/evaluate routine (compute_forces) serves every step, the
 // initial state and the energy checks.
 
+#include <perideal/base/best_point.h>
 #include <perideal/base/input.h>
 #include <perideal/base/memory.h>
 #include <perideal/compute/region_compute.h>
@@ -150,8 +151,23 @@ namespace perideal
     print_setup_report();
     void
     print_summary(const double loop_seconds, const unsigned int steps_done);
+    /// Interrupted runs (base/interrupt.h). Collective. During set-up: stops
+    /// if a rank has received a signal. After a completed @p step: writes it
+    /// where the output writes anything (what its output with @p n_steps did
+    /// not write already), prints the summary and throws Interrupted.
+    void
+    stop_if_interrupted_in_setup();
+    [[noreturn]] void
+    stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
+                     const double loop_seconds);
+    /// "point N at (x, y, z)": the first point (or FE DoF) with a
+    /// non-finite value, the same on any number of ranks. Collective.
     std::string
     locate_nonfinite();
+    /// The point (or FE DoF) with the largest speed (the value), the
+    /// same on every rank. Collective.
+    BestPoint
+    fastest_point() const;
     /// Forces (and energy density) of the initial state, ghosts updated.
     void
     evaluate_initial_state();

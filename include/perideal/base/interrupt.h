@@ -1,0 +1,43 @@
+#pragma once
+// Interrupted runs: SIGTERM and SIGINT (a batch system's stop, mpirun's
+// forwarding, a user's Ctrl-C) only set a flag here; the integrators look at
+// it collectively once per step, finish the step, write its output and stop
+// with an Interrupted exception (pd_app: one "Error: interrupted by ..." line,
+// exit code 128 + the signal). A second signal while the first is being
+// handled ends the process at once (the default action).
+
+#include <deal.II/base/mpi.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace perideal
+{
+  /// Installs the handlers for SIGTERM and SIGINT (once, on every rank).
+  void
+  install_interrupt_handlers();
+
+  /// The signal this rank has received, 0 if none. Not collective.
+  int
+  local_interrupt_signal();
+
+  /// The signal any rank of @p comm has received (the largest number if
+  /// several), 0 if none; the same on every rank. Collective.
+  int
+  interrupt_signal(const MPI_Comm comm);
+
+  /// "SIGTERM", "SIGINT", else "signal N".
+  std::string
+  signal_name(const int signal);
+
+  /// Thrown on every rank alike when a run stops for a signal.
+  class Interrupted : public std::runtime_error
+  {
+  public:
+    Interrupted(const int signal, const std::string &message)
+      : std::runtime_error(message)
+      , signal(signal)
+    {}
+    int signal;
+  };
+} // namespace perideal
