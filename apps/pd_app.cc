@@ -137,6 +137,17 @@ main(int argc, char *argv[])
       e.print_info(info);
       return report_error(one_line(info.str()), comm);
     }
+  catch (const std::bad_alloc &)
+    {
+      // Past the size check before set-up (a lower bound of the need): say
+      // what ran out and the way out, not "std::bad_alloc".
+      return report_error("out of memory on rank " +
+                            std::to_string(dealii::Utilities::MPI::this_mpi_process(comm)) +
+                            ": the scene needs more memory than the ranks have (pd_app --dry-run prints "
+                            "its size estimate). Use more ranks, on more nodes, or fewer cells (Discretization) "
+                            "or a smaller horizon",
+                          comm);
+    }
   catch (const std::exception &e)
     {
       return report_error(one_line(e.what()), comm);

@@ -1,8 +1,8 @@
 # Runs one example test (cmake -P). Variables (lists separated by '|'):
 #   RUN          the command, run in WORKDIR, e.g. mpirun|-np|2|pd_app|case.prm
 #   WORKDIR      a fresh directory the command runs in (removed first)
-#   PRM          parameter files, concatenated in this order into
-#                WORKDIR/case.prm (later settings override earlier ones);
+#   PRM          parameter files: the first, with the 'set' lines of the
+#                others applied in order (merge_prm.py), is WORKDIR/case.prm;
 #                @PERIDEAL_SOURCE_DIR@ in them becomes SOURCE_DIR
 #   SOURCE_DIR   the source tree
 #   CSV          the globals CSV the run writes, relative to WORKDIR
@@ -23,12 +23,22 @@ endforeach()
 file(REMOVE_RECURSE "${WORKDIR}")
 file(MAKE_DIRECTORY "${WORKDIR}")
 
+# pd_app refuses a key or subsection given twice: the later files are
+# overlays merged into the first (merge_prm.py), not appended.
 string(REPLACE "|" ";" prm_files "${PRM}")
-set(prm "")
-foreach(f ${prm_files})
-  file(READ "${f}" text)
-  string(APPEND prm "# ---- ${f}\n${text}\n")
-endforeach()
+list(LENGTH prm_files n_prm)
+if(n_prm GREATER 1)
+  if(NOT DEFINED PYTHON)
+    message(FATAL_ERROR "run_example.cmake: PYTHON is not set (needed to merge ${PRM})")
+  endif()
+  execute_process(COMMAND ${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/merge_prm.py ${prm_files}
+    OUTPUT_VARIABLE prm RESULT_VARIABLE merge_rc)
+  if(NOT merge_rc EQUAL 0)
+    message(FATAL_ERROR "merge_prm.py ${prm_files} failed: ${merge_rc}")
+  endif()
+else()
+  file(READ "${prm_files}" prm)
+endif()
 string(REPLACE "@PERIDEAL_SOURCE_DIR@" "${SOURCE_DIR}" prm "${prm}")
 file(WRITE "${WORKDIR}/case.prm" "${prm}")
 
