@@ -100,6 +100,10 @@ namespace perideal
     /// hold it), -1 if none.
     int
     block_of_cell(const CellIterator &cell) const;
+    /// Collective: stops, naming the block and why, if a block of
+    /// Blocks/Names claims no cell (a silent no-op otherwise).
+    void
+    check_blocks_have_cells() const;
     /// DoFs, point cloud and families of the current partition.
     void
     build_points_and_bonds();
