@@ -107,6 +107,7 @@ namespace perideal
         std::ifstream in(file);
         if (!in)
           return false;
+        check_encoding(in, file);
         const std::size_t depth = path.size();
         chain.push_back({file, canonical(file), depth});
         std::string       raw, logical;
@@ -155,6 +156,34 @@ namespace perideal
 
       std::vector<Open>  chain; // the files being read, outermost first
       std::vector<Level> path{Level()};
+
+      /**
+       * deal.II reads bytes: a byte-order mark, which some editors (Notepad)
+       * put at the start of a file, becomes part of the first line, which then
+       * "could not be parsed" with the mark invisible in the message; UTF-16
+       * puts a zero byte in every character. Named here instead.
+       */
+      static void
+      check_encoding(std::ifstream &in, const std::string &file)
+      {
+        char              bytes[4] = {};
+        in.read(bytes, sizeof(bytes));
+        const std::string head(bytes, in.gcount());
+        in.clear();
+        in.seekg(0);
+        const auto starts = [&head](const std::string &mark) { return head.compare(0, mark.size(), mark) == 0; };
+        AssertThrow(!starts("\xEF\xBB\xBF"),
+                    dealii::ExcMessage(place(file, 1) +
+                                       ": the file starts with a UTF-8 byte-order mark (the invisible "
+                                       "bytes EF BB BF), which deal.II reads as part of the first line: "
+                                       "save the file as UTF-8 without BOM (or ASCII), e.g. "
+                                       "sed -i '1s/^\\xEF\\xBB\\xBF//' " + file));
+        AssertThrow(!starts("\xFF\xFE") && !starts("\xFE\xFF") && head.find('\0') == std::string::npos,
+                    dealii::ExcMessage(place(file, 1) +
+                                       ": the file is UTF-16 (or holds zero bytes), and deal.II reads "
+                                       "parameter files as ASCII or UTF-8: save it as UTF-8 without BOM, "
+                                       "e.g. iconv -f UTF-16 -t UTF-8 " + file));
+      }
 
       static std::filesystem::path
       canonical(const std::string &file)

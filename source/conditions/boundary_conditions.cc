@@ -47,6 +47,18 @@ namespace perideal
                                                            Type::body_force;
     boundary_id = prm.get_integer("Boundary id");
     region    = prm.get("Region");
+    // Only a Traction reads Boundary id: elsewhere it was silently ignored,
+    // and the condition acted on all of Region instead.
+    AssertThrow(boundary_id < 0 || type == Type::traction,
+                ExcMessage(path + "/Boundary id: only a Traction selects faces by boundary id; this " + t +
+                           " acts on the points of Region ('" + region + "'), so Boundary id " +
+                           std::to_string(boundary_id) + " would be ignored: remove it and select the points "
+                           "with a region (Discretization/Regions, Type = Physical group, Physical group "
+                           "dimension = 2 for a Gmsh surface group)"));
+    AssertThrow(boundary_id < 0 || region == "All",
+                ExcMessage(path + ": Boundary id " + std::to_string(boundary_id) + " and Region '" + region +
+                           "' both select the faces of this Traction, and Region would be ignored: give one "
+                           "of them (Region = All, or Boundary id = -1)"));
     component = prm.get("Component")[0] - 'x';
     // The component enters the seed: x, y and z conditions with the same seed
     // still draw independent numbers at a point.

@@ -41,6 +41,12 @@ namespace perideal
       AssertThrow(given_sc > 0 || release_rate > 0,
                   ExcMessage(path + ": set 'Critical stretch' or 'Critical energy "
                                     "release rate' to a positive value"));
+      // With both, the release rate was silently ignored.
+      AssertThrow(given_sc == 0 || release_rate == 0,
+                  ExcMessage(path + ": both 'Critical stretch' (" + prm.get("Critical stretch") +
+                             ") and 'Critical energy release rate' (" + prm.get("Critical energy release rate") +
+                             ") are set, and the release rate would be ignored: set one of them (the "
+                             "stretch follows from the release rate as sqrt(5 G_c / (9 K horizon)))"));
     }
 
     void

@@ -637,6 +637,89 @@ namespace perideal
                              to_string_short(first_value) + " at its node " + std::to_string(first_node) +
                              ": fix the mesh, e.g. move its nodes back or untangle it in Gmsh"));
     }
+    /**
+     * Periodic along @p d joins the mesh's faces on the planes x_d = low and
+     * x_d = high: they must be copies of each other. The minimum-image bonds
+     * do not look at faces, so a mesh without them (a Cylinder shell along x
+     * or y) or with faces that do not match ran silently with bonds across
+     * the gap. Compares the coarse faces' centres and areas on the two
+     * planes (every rank holds the whole coarse mesh: all decide alike).
+     */
+    void
+    check_periodic_faces(const parallel::distributed::Triangulation<dim> &tria,
+                         const unsigned int                                d,
+                         const double                                      low,
+                         const double                                      high)
+    {
+      const char   axis = char('x' + d);
+      const double size = (high - low) + 1e-300;
+      double       diameter = 0;
+      for (const auto &cell : tria.cell_iterators_on_level(0))
+        diameter = std::max(diameter, cell->diameter());
+      const double quantum = 1e-6 * std::max(diameter, size);
+      // Per plane: the faces' centres in the other two coordinates, and areas.
+      std::array<std::vector<std::array<long long, 3>>, 2> faces;
+      std::array<std::vector<Point<dim>>, 2>               centres;
+      for (const auto &cell : tria.cell_iterators_on_level(0))
+        for (const unsigned int f : cell->face_indices())
+          if (cell->at_boundary(f))
+            {
+              const auto face = cell->face(f);
+              for (unsigned int side = 0; side < 2; ++side)
+                {
+                  const double plane = side == 0 ? low : high;
+                  bool         on    = true;
+                  for (const unsigned int v : face->vertex_indices())
+                    on = on && std::abs(face->vertex(v)[d] - plane) <= 1e-8 * size;
+                  if (!on)
+                    continue;
+                  const Point<dim>          c = face->center();
+                  std::array<long long, 3> key{};
+                  unsigned int              k = 0;
+                  for (unsigned int e = 0; e < dim; ++e)
+                    if (e != d)
+                      key[k++] = std::llround(c[e] / quantum);
+                  key[2] = std::llround(face->measure() / (quantum * std::max(diameter, size)));
+                  faces[side].push_back(key);
+                  centres[side].push_back(c);
+                }
+            }
+      const auto where = [&](const unsigned int side) {
+        std::ostringstream s;
+        s << axis << " = " << (side == 0 ? low : high);
+        return s.str();
+      };
+      for (unsigned int side = 0; side < 2; ++side)
+        AssertThrow(!faces[side].empty(),
+                    ExcMessage("Discretization/Periodic directions: '" + std::string(1, axis) +
+                               "' joins the mesh's boundary faces on the planes " + where(0) + " and " +
+                               where(1) + " (its bounding box), but no boundary face lies on " + where(side) +
+                               ": the mesh is not bounded by planes normal to " + std::string(1, axis) +
+                               " (a Cylinder shell is periodic along z only): remove '" + std::string(1, axis) +
+                               "' from Periodic directions"));
+      std::array<std::vector<std::array<long long, 3>>, 2> sorted = faces;
+      for (auto &list : sorted)
+        std::sort(list.begin(), list.end());
+      if (sorted[0] == sorted[1])
+        return;
+      // The first face of either plane without a copy on the other.
+      for (unsigned int side = 0; side < 2; ++side)
+        for (unsigned int i = 0; i < faces[side].size(); ++i)
+          if (!std::binary_search(sorted[1 - side].begin(), sorted[1 - side].end(), faces[side][i]))
+            {
+              std::ostringstream at;
+              at << "(" << centres[side][i] << ")";
+              AssertThrow(false,
+                          ExcMessage("Discretization/Periodic directions: along " + std::string(1, axis) +
+                                     " the mesh's faces on " + where(0) + " (" + std::to_string(faces[0].size()) +
+                                     " faces) and on " + where(1) + " (" + std::to_string(faces[1].size()) +
+                                     " faces) do not match: the face centred at " + at.str() + " on " +
+                                     where(side) + " has no copy on " + where(1 - side) +
+                                     ". A periodic direction needs the two faces to be translated copies "
+                                     "(a box is; mesh a Gmsh geometry with 'Periodic Surface'), or remove '" +
+                                     std::string(1, axis) + "' from Periodic directions"));
+            }
+    }
   } // namespace
 
   Periodicity
@@ -654,6 +737,7 @@ namespace perideal
                 low  = std::min(low, cell->vertex(v)[d]);
                 high = std::max(high, cell->vertex(v)[d]);
               }
+          check_periodic_faces(tria, d, low, high);
           result.set(d, low, high);
         }
     return result;

@@ -32,6 +32,13 @@ namespace perideal
     normal = get_point(prm, "Normal");
     AssertThrow(bottom.norm() > 0 && normal.norm() > 0,
                 ExcMessage(path + ": Bottom unit vector and Normal must not be zero"));
+    // A norm that overflows (components near 1e155 or more) would scale the
+    // vector to zero: a filter that silently cuts nothing.
+    AssertThrow(std::isfinite(bottom.norm()) && std::isfinite(normal.norm()),
+                ExcMessage(path + ": the length of " +
+                           (std::isfinite(bottom.norm()) ? "Normal" : "Bottom unit vector") +
+                           " overflows a double (it is normalised): give a direction of moderate length, "
+                           "e.g. 0,1,0"));
     bottom /= bottom.norm();
     normal /= normal.norm();
     AssertThrow(std::abs(bottom * normal) < 1e-6,

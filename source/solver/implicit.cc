@@ -128,6 +128,25 @@ namespace perideal
     gamma              = prm.get_double("Newmark gamma");
     AssertThrow(tolerance > 0 || absolute_tolerance > 0,
                 ExcMessage("Solver/Implicit/Tolerance and Absolute tolerance are both 0: Newton would never stop"));
+    // Both are relative: at 1 or more Newton accepts the initial guess (no
+    // solve, exit 0 with the loads unbalanced), and the Krylov solver returns
+    // du = 0 (Newton then "stagnates", blamed on the tangent).
+    AssertThrow(tolerance < 1,
+                ExcMessage("Solver/Implicit/Tolerance must be below 1, got " + Utilities::to_string(tolerance) +
+                           ": it is relative to the forces, and at 1 or more Newton accepts the initial guess "
+                           "without solving (e.g. 1e-8; Absolute tolerance is the one in force units)"));
+    AssertThrow(linear_tolerance < 1,
+                ExcMessage("Solver/Implicit/Linear tolerance must be below 1, got " +
+                           Utilities::to_string(linear_tolerance) +
+                           ": it is relative to |R|, and at 1 or more the Krylov solver returns a zero "
+                           "Newton step (e.g. 1e-10)"));
+    // Below 1/2 Newmark's numerical damping is negative: the energy grows
+    // every step, whatever the step (a run of box.prm with gamma = 0: 18%
+    // energy error in two steps, exit 0).
+    AssertThrow(gamma >= 0.5,
+                ExcMessage("Solver/Implicit/Newmark gamma must be at least 0.5, got " + Utilities::to_string(gamma) +
+                           ": below it the scheme adds energy every step (unstable for any time step); "
+                           "0.5 conserves energy, more damps it"));
     AssertThrow(beta > 0, ExcMessage("Solver/Implicit/Newmark beta must be positive (beta = 0 is the explicit "
                                      "central difference: use Solver/Type = Verlet)"));
   }

@@ -6,6 +6,7 @@
 #include <perideal/base/best_point.h>
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/mpi.templates.h>
 #include <deal.II/base/utilities.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_dgq.h>
@@ -535,6 +536,70 @@ namespace perideal
   }
 
   void
+  Simulation::check_blocks_have_cells() const
+  {
+    // Per block: the cells it claims, and the cells its own criterion holds
+    // (region or material ids), whether or not an earlier block claims them.
+    const auto holds = [this](const Block &block, const CellIterator &cell) {
+      return block.region.empty() ?
+               std::find(block.material_ids.begin(), block.material_ids.end(), cell->material_id()) !=
+                 block.material_ids.end() :
+               in_region(block.region, cell->center(), cell);
+    };
+    std::vector<unsigned int> claimed(blocks.size(), 0), held(blocks.size(), 0);
+    std::vector<int>          first_claimer(blocks.size(), -1);
+    std::set<unsigned int>    ids;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          ids.insert(cell->material_id());
+          const int b = block_of_cell(cell);
+          if (b >= 0)
+            ++claimed[b];
+          for (unsigned int k = 0; k < blocks.size(); ++k)
+            if (int(k) != b && holds(blocks[k], cell))
+              {
+                ++held[k];
+                if (b >= 0 && (first_claimer[k] < 0 || b < first_claimer[k]))
+                  first_claimer[k] = b;
+              }
+        }
+    Utilities::MPI::sum(claimed, comm, claimed);
+    Utilities::MPI::sum(held, comm, held);
+    for (auto &b : first_claimer)
+      b = -Utilities::MPI::max(-(b < 0 ? int(blocks.size()) : b), comm);
+    const std::set<unsigned int> all_ids = Utilities::MPI::compute_set_union(ids, comm);
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      if (claimed[k] == 0)
+        {
+          const Block &block = blocks[k];
+          const std::string path = "Blocks/" + block.name;
+          std::string       why;
+          if (held[k] > 0 && first_claimer[k] < int(blocks.size()))
+            why = "every cell its " + std::string(block.region.empty() ? "Material ids" : "Region '" + block.region + "'") +
+                  " holds is claimed by block '" + blocks[first_claimer[k]].name +
+                  "', listed before it in Blocks/Names (a cell belongs to the first block that claims it): list '" +
+                  block.name + "' first, or give '" + blocks[first_claimer[k]].name + "' a Region that leaves these cells out";
+          else if (block.region.empty())
+            {
+              std::string want, have;
+              for (const auto id : block.material_ids)
+                want += (want.empty() ? "" : ", ") + std::to_string(id);
+              for (const auto id : all_ids)
+                have += (have.empty() ? "" : ", ") + std::to_string(id);
+              why = "no cell has Material ids " + want + " (the mesh's material ids: " + have +
+                    "): fix " + path + "/Material ids or set " + path + "/Region";
+            }
+          else
+            why = "no cell centre lies in its Region '" + block.region + "': check Discretization/Regions/" +
+                  block.region + " against the mesh's extent";
+          AssertThrow(false,
+                      ExcMessage(path + ": the block holds no cell, so its material and settings would be "
+                                        "silently unused: " + why + "; or remove it from Blocks/Names"));
+        }
+  }
+
+  void
   Simulation::setup()
   {
     const auto start = std::chrono::steady_clock::now();
@@ -680,6 +745,7 @@ namespace perideal
           AssertThrow(false, ExcMessage("no cell belongs to any block: check Blocks/*/Material ids "
                                         "or Region (material ids in the mesh on rank 0: " + list + ")"));
         }
+      check_blocks_have_cells();
       unsigned int bad_volume = 0;
       for (unsigned int i = 0; i < cloud.n_owned(); ++i)
         if (!(cloud.volume[i] > 0))
@@ -904,6 +970,30 @@ namespace perideal
                                " against the mesh's extent"));
       }
     check_region_expressions();
+    // Two conditions of the same kind on the same component of a point: the
+    // later one silently replaced the earlier there. Say so.
+    for (unsigned int a = 0; a < conditions.size(); ++a)
+      for (unsigned int b = a + 1; b < conditions.size(); ++b)
+        {
+          const auto &ca = conditions[a], &cb = conditions[b];
+          const bool  same_kind = ca.is_prescribed() ? cb.is_prescribed() : ca.is_initial() && ca.type == cb.type;
+          if (!same_kind || ca.component != cb.component)
+            continue;
+          const auto common = [](const std::vector<unsigned int> &x, const std::vector<unsigned int> &y) {
+            std::vector<unsigned int> sx(x), sy(y), both;
+            std::sort(sx.begin(), sx.end());
+            std::sort(sy.begin(), sy.end());
+            std::set_intersection(sx.begin(), sx.end(), sy.begin(), sy.end(), std::back_inserter(both));
+            return both.size();
+          };
+          const auto n = Utilities::MPI::sum(common(ca.points, cb.points) + common(ca.nodes, cb.nodes), comm);
+          if (n > 0)
+            warnings.push_back("boundary conditions '" + ca.name + "' and '" + cb.name + "' both " +
+                               (ca.is_prescribed() ? "prescribe" : "set the initial value of") + " component " +
+                               std::string(1, char('x' + ca.component)) + " at " + std::to_string(n) +
+                               " points; there the later one in Boundary conditions/Names ('" + cb.name +
+                               "') replaces '" + ca.name + "': make their regions disjoint if that is not meant");
+        }
     constraints.clear();
     {
       // A later condition on the same component of the same point wins.

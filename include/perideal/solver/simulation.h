@@ -114,6 +114,10 @@ namespace perideal
     /// The horizon key of the block with the largest horizon, for messages.
     std::string
     horizon_key() const;
+    /// Collective: stops, naming the block and why, if a block of
+    /// Blocks/Names claims no cell (a silent no-op otherwise).
+    void
+    check_blocks_have_cells() const;
     /// DoFs, point cloud and families of the current partition.
     void
     build_points_and_bonds();
