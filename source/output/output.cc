@@ -85,14 +85,20 @@ namespace perideal
   void
   OutputWriter::initialize(const MPI_Comm comm)
   {
+    // Rank 0 creates it; every rank learns the outcome, so that all stop
+    // alike (a throw on rank 0 alone would leave the others waiting).
+    std::string problem;
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
         std::error_code ec;
         std::filesystem::create_directories(directory, ec);
-        AssertThrow(!ec && std::filesystem::is_directory(directory),
-                    ExcMessage("Output/Directory: cannot create '" + directory + "'"));
+        if (std::filesystem::exists(directory) && !std::filesystem::is_directory(directory))
+          problem = "'" + directory + "' exists and is not a directory: name another Output/Directory";
+        else if (ec || !std::filesystem::is_directory(directory))
+          problem = "cannot create '" + directory + "'" + (ec ? " (" + ec.message() + ")" : std::string());
       }
-    MPI_Barrier(comm);
+    problem = Utilities::MPI::broadcast(comm, problem, 0);
+    AssertThrow(problem.empty(), ExcMessage("Output/Directory: " + problem));
     pvd_records.clear();
     csv_lines.clear();
   }
