@@ -128,7 +128,8 @@ main(int argc, char *argv[])
   catch (const perideal::Interrupted &e)
     {
       // Every rank stops alike; the shell's code for the signal.
-      report_error(e.what(), comm);
+      if (!e.reported)
+        report_error(e.what(), comm);
       return 128 + e.signal;
     }
   catch (const dealii::ExceptionBase &e)

@@ -1690,12 +1690,17 @@ namespace perideal
       write_output(step, time, add_globals, add_fields);
     else if (!wrote)
       global_quantities(step, time); // the summary's energy balance
-    print_summary(loop_seconds, step);
-    throw Interrupted(signal, "interrupted by " + signal_name(signal) + " at step " + std::to_string(step) +
+    const std::string message = "interrupted by " + signal_name(signal) + " at step " + std::to_string(step) +
                                 " (t = " + sci(time, 6) + "): " +
                                 (output.is_output_step(step, step) ?
                                    "the output holds steps up to " + std::to_string(step) :
-                                   std::string("nothing written (Output/Frequency = 0)")));
+                                   std::string("nothing written (Output/Frequency = 0)"));
+    // Said before the summary: mpirun, stopping the job, may drop what a
+    // rank writes last.
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      std::cerr << "Error: " << message << std::endl;
+    print_summary(loop_seconds, step);
+    throw Interrupted(signal, message, /*reported=*/true);
   }
 
   // ----------------------------------------------------------------- the run

@@ -34,10 +34,12 @@ namespace perideal
   class Interrupted : public std::runtime_error
   {
   public:
-    Interrupted(const int signal, const std::string &message)
+    Interrupted(const int signal, const std::string &message, const bool reported = false)
       : std::runtime_error(message)
       , signal(signal)
+      , reported(reported)
     {}
-    int signal;
+    int  signal;
+    bool reported; // the "Error: ..." line is printed already (before the summary)
   };
 } // namespace perideal
