@@ -81,15 +81,19 @@ pid=
 echo "exit code $rc after SIG$signal"
 
 [[ $rc -ne 0 ]] || fail "exit code 0"
-if [[ $signal == KILL ]]; then
-  cd output || fail "no output directory"
-  rm -f ./*.tmp
+# The steps the .pvd lists, the .pvtu files there are and the CSV rows (in output/).
+read_steps() {
   pvd_steps=$(grep -o "file=\"${base}_[0-9]*\.pvtu\"" "$base.pvd" | sed -E 's/.*_0*([0-9]+)\.pvtu"/\1/' | sort -n | tr '\n' ' ')
   pvtu_steps=$(ls "${base}"_*.pvtu | sed -E 's/.*_0*([0-9]+)\.pvtu/\1/' | sort -n | tr '\n' ' ')
   csv_steps=$(tail -n +2 "$base.globals.csv" | cut -d, -f1 | sort -n | tr '\n' ' ')
   echo ".pvd steps:  $pvd_steps"
   echo ".pvtu steps: $pvtu_steps"
   echo "CSV steps:   $csv_steps"
+}
+if [[ $signal == KILL ]]; then
+  cd output || fail "no output directory"
+  rm -f ./*.tmp
+  read_steps
   # A kill between a step's .pvtu and its .pvd record leaves that one .pvtu
   # (complete, with its pieces) not yet listed: the .pvd is never ahead.
   [[ $pvd_steps == "$pvtu_steps" || "$pvd_steps$(awk '{print $NF}' <<<"$pvtu_steps") " == "$pvtu_steps" ]] ||
@@ -122,12 +126,7 @@ grep -q '^PeriDeal summary' out.txt || fail "no summary on standard output"
 
 cd output || fail "no output directory"
 ls *.tmp >/dev/null 2>&1 && fail "temporary files left: $(ls *.tmp)"
-pvd_steps=$(grep -o "file=\"${base}_[0-9]*\.pvtu\"" "$base.pvd" | sed -E 's/.*_0*([0-9]+)\.pvtu"/\1/' | sort -n | tr '\n' ' ')
-pvtu_steps=$(ls "${base}"_*.pvtu | sed -E 's/.*_0*([0-9]+)\.pvtu/\1/' | sort -n | tr '\n' ' ')
-csv_steps=$(tail -n +2 "$base.globals.csv" | cut -d, -f1 | sort -n | tr '\n' ' ')
-echo ".pvd steps:  $pvd_steps"
-echo ".pvtu steps: $pvtu_steps"
-echo "CSV steps:   $csv_steps"
+read_steps
 [[ $pvd_steps == "$pvtu_steps" ]] || fail "the .pvd steps differ from the .pvtu files"
 [[ $csv_steps == "$pvd_steps" ]] || fail "the CSV steps differ from the .pvd steps"
 [[ $(wc -w <<<"$pvd_steps") -ge 3 ]] || fail "fewer than 3 output steps"
