@@ -2,7 +2,7 @@
 //   mpirun -np N pd_app params.prm
 
 #include <perideal/base/interrupt.h>
-#include <perideal/solver/simulation.h>
+#include <perideal/simulation/simulation.h>
 
 #include <deal.II/base/mpi.h>
 

@@ -9,6 +9,8 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
+#include <perideal/base/registry.h>
+
 #include <functional>
 #include <map>
 #include <memory>
@@ -73,72 +75,4 @@ namespace perideal
   void
   require_positive(const double value, const std::string &path);
 
-  /**
-   * A registry of named models (materials, damage models): each file
-   * registers its class with a name, a documentation string and its
-   * declare_parameters function; the valid names come from here.
-   */
-  template <class Base>
-  class Registry
-  {
-  public:
-    struct Entry
-    {
-      std::string                                  name;
-      std::string                                  documentation;
-      std::function<void(ParameterHandler &)>      declare;
-      std::function<std::unique_ptr<Base>()>       create;
-    };
-
-    static Registry &
-    instance()
-    {
-      static Registry registry;
-      return registry;
-    }
-
-    bool
-    add(const Entry &entry)
-    {
-      entries[entry.name] = entry;
-      return true;
-    }
-
-    const Entry &
-    get(const std::string &name, const std::string &where) const
-    {
-      const auto it = entries.find(name);
-      AssertThrow(it != entries.end(),
-                  dealii::ExcMessage(where + ": unknown model '" + name +
-                                     "'; valid names are: " + names(", ")));
-      return it->second;
-    }
-
-    std::string
-    names(const std::string &separator = "|") const
-    {
-      std::string s;
-      for (const auto &e : entries)
-        s += (s.empty() ? "" : separator) + e.first;
-      return s;
-    }
-
-    const std::map<std::string, Entry> &
-    all() const
-    {
-      return entries;
-    }
-
-  private:
-    std::map<std::string, Entry> entries;
-  };
 } // namespace perideal
-
-#define PERIDEAL_REGISTER(Base, Class, name, doc)                          \
-  namespace                                                                \
-  {                                                                        \
-    const bool registered_##Class = ::perideal::Registry<Base>::instance() \
-      .add({name, doc, &Class::declare_parameters, []() {                  \
-              return std::unique_ptr<Base>(new Class());                   \
-            }});                                                           \
-  }

@@ -3,8 +3,8 @@
 // Newmark-beta: Newton with a backtracking line search, a Krylov solver (CG,
 // or GMRES) preconditioned by Trilinos ML AMG with the six rigid-body modes as
 // near null space, the re-solve of a step while bonds break, and Newmark's
-// beta and gamma. The solvers are Simulation::run_quasistatic() and
-// Simulation::run_newmark() (implicit.cc).
+// beta and gamma. The solver is ImplicitSolver (implicit_solver.h), the
+// integrators QuasiStatic and Newmark.
 
 #include <perideal/base/input.h>
 

@@ -1,8 +1,8 @@
-// The size of a scene before it is allocated (Simulation::setup): the
+// The size of a scene before it is allocated (Discretization::setup): the
 // estimates of perideal/discretization/size_estimate.h for the built-in
 // scenes and for a mesh about to be refined.
 #include <perideal/discretization/size_estimate.h>
-#include <perideal/solver/simulation.h>
+#include <perideal/discretization/discretization.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -16,7 +16,7 @@ namespace perideal
   using namespace dealii;
 
   std::string
-  Simulation::horizon_key() const
+  Discretization::horizon_key() const
   {
     const Block *largest = nullptr;
     for (const auto &b : blocks)
@@ -28,7 +28,7 @@ namespace perideal
   }
 
   void
-  Simulation::check_scene_size(const AvailableMemory &available) const
+  Discretization::check_scene_size(const AvailableMemory &available) const
   {
     if (scene.type != "Box" && scene.type != "Cylinder shell")
       return;
@@ -94,7 +94,7 @@ namespace perideal
   }
 
   void
-  Simulation::check_mesh_size(const AvailableMemory &available, const std::string &what,
+  Discretization::check_mesh_size(const AvailableMemory &available, const std::string &what,
                               const std::string &cells_key, const double descendants) const
   {
     // The cells as they are plus 7 per cell flagged for refinement (p4est's

@@ -1,0 +1,39 @@
+#pragma once
+// The coupling of continuum (FE) blocks with peridynamic ones
+// (doc/coupling.md): the FE field of the continuum blocks, the virtual points
+// through which PD families reach into FE cells, the FE field interpolated
+// there (Pi U) and their forces taken back to the FE nodes (Pi^T). Made only
+// for a scene with a continuum block.
+
+#include <perideal/continuum/continuum_field.h>
+#include <perideal/discretization/discretization.h>
+
+#include <vector>
+
+namespace perideal
+{
+  class Coupling
+  {
+  public:
+    /// The FE field on the continuum cells of @p discretization, its mass and
+    /// stiffness (weighted by the blending band), and the virtual points. Collective.
+    void
+    setup(const Discretization &discretization, const MPI_Comm comm);
+
+    /// The FE field at the virtual points into @p displacement (U's ghosts updated first).
+    void
+    update_virtual_points(VectorType &displacement);
+
+    /// The virtual points' forces (V f of @p force, a density) to the FE
+    /// nodes, with the FE stiffness: continuum.F.
+    void
+    transfer_forces(const PointCloud &cloud, const VectorType &force);
+
+    ContinuumField            continuum;
+    std::vector<unsigned int> virtual_points; // owned virtual points (local index)
+    std::vector<double>       node_density;   // per continuum node: the density of its block
+
+  private:
+    std::vector<double> u_virtual, f_virtual;
+  };
+} // namespace perideal

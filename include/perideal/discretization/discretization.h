@@ -1,0 +1,135 @@
+#pragma once
+// The discretization: the mesh (a built-in scene or a Gmsh file, refined in
+// regions), the hp DoFHandler (FE_DGQ(0)^dim on peridynamic cells, FE_Q(p)^dim
+// on continuum cells), the point cloud (one point per PD cell, virtual points
+// in FE cells within reach of them) and the bonds (families within the
+// horizon, bond filters, partial volumes), repartitioned by bonds on several
+// ranks. The size of the scene is checked against the memory before each
+// allocation (size_check.cc).
+
+#include <perideal/base/memory.h>
+#include <perideal/discretization/point_cloud.h>
+#include <perideal/geometry/region.h>
+#include <perideal/geometry/scene.h>
+#include <perideal/model/block.h>
+#include <perideal/neighborhood/bond_filter.h>
+#include <perideal/neighborhood/bonds.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/hp/fe_collection.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  struct Deck;
+
+  class Discretization
+  {
+  public:
+    Discretization(Deck &deck, const MPI_Comm comm, dealii::ConditionalOStream &pcout, dealii::TimerOutput &timer,
+                   const bool dry_run_mode);
+
+    /// Mesh, refinement, points and bonds, rebalanced by bonds on several
+    /// ranks; then every point has a neighbor. Collective.
+    void
+    setup();
+
+    /// Whether @p x (in @p cell) lies in the region named @p region ("All": everywhere).
+    bool
+    in_region(const std::string &region, const dealii::Point<dim> &x, const CellIterator &cell) const
+    {
+      return region == "All" || regions.at(region)->contains(x, cell);
+    }
+    /// Collective: stops if a region's expression was not finite at a point
+    /// it was asked about (NaN would silently put the point inside).
+    void
+    check_region_expressions() const;
+    /// The block that claims @p cell (the first whose region or material ids
+    /// hold it), -1 if none.
+    int
+    block_of_cell(const CellIterator &cell) const;
+    /// A point of a continuum block: it follows the FE field.
+    bool
+    is_virtual(const unsigned int i) const
+    {
+      return has_continuum && blocks[cloud.block[i]].continuum;
+    }
+    /// The smallest point spacing, (cell volume)^(1/3), over the points with mass. Collective.
+    double
+    point_spacing() const;
+    /// The horizon key of the block with the largest horizon, for messages.
+    std::string
+    horizon_key() const;
+
+    const Scene                                          &scene;
+    const std::map<std::string, std::unique_ptr<Region>> &regions;
+    const std::vector<BondFilter>                        &bond_filters;
+    std::vector<Block>                                   &blocks;
+    const bool                                            has_continuum;
+
+    dealii::parallel::distributed::Triangulation<dim> triangulation;
+    // FE_DGQ(0)^dim on PD cells (active FE index 0), FE_Q(p)^dim on the cells
+    // of continuum blocks (index p).
+    dealii::hp::FECollection<dim> fe;
+    dealii::DoFHandler<dim>       dof_handler;
+    PointCloud                    cloud;
+    Bonds                         bonds;
+    std::vector<std::size_t>      filtered_bonds;       // per filter: directed bonds it cut (all ranks)
+    double                        unbalanced_bonds = 0; // % above the mean before rebalancing, 0: not needed
+    // Continuum runs: the PD energy weight per owned point, 1 - alpha per
+    // active FE cell, and per active cell 1 + its virtual point levels (0: none).
+    std::vector<double>        point_alpha;
+    std::vector<double>        cell_fe_weight;
+    std::vector<unsigned char> cell_virtual;
+
+  private:
+    /// Size checks (size_check.cc): the built-in scene's cells, points and
+    /// bonds before the mesh is made, and the mesh's (with the cells flagged
+    /// for refinement) once it exists, against the memory available; an
+    /// Error naming the key if too large. Collective.
+    void
+    check_scene_size(const AvailableMemory &available) const;
+    void
+    check_mesh_size(const AvailableMemory &available, const std::string &what, const std::string &cells_key,
+                    const double descendants = 0) const; // > 0: every cell becomes this many
+    /// Collective: stops, naming the block and why, if a block of
+    /// Blocks/Names claims no cell (a silent no-op otherwise).
+    void
+    check_blocks_have_cells() const;
+    /// DoFs, point cloud and families of the current partition.
+    void
+    build_points_and_bonds();
+    /// Removes the bonds that cross a bond filter; counts them per filter.
+    void
+    apply_bond_filters();
+    /// A point without a neighbor cannot carry load: stops naming the first.
+    void
+    check_isolated_points() const;
+    /// The point cloud of a run with continuum blocks: PD points and the
+    /// virtual points of the FE cells within reach of them, with alpha (PD
+    /// energy weight) per point and 1 - alpha per FE cell from the distance
+    /// to the nearest PD point.
+    void
+    build_coupled_cloud(const std::function<int(const CellIterator &)> &block_of, const double max_horizon);
+    /// Removes the bonds between two points of energy weight 0 (virtual
+    /// points beyond the band): they carry no energy, and such a point needs
+    /// only its bonds to weighted points to receive their reactions.
+    void
+    drop_unweighted_bonds();
+
+    MPI_Comm                   comm;
+    dealii::ConditionalOStream &pcout;
+    dealii::TimerOutput        &timer;
+    double                      blending_width;
+    int                         virtual_point_levels;
+    bool                        dry_run_mode;
+  };
+} // namespace perideal

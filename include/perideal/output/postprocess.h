@@ -1,0 +1,73 @@
+#pragma once
+// What a run reports: the computes' points, the globals row of a step (the
+// energies, broken bonds, the computes, the integrator's own columns), the
+// field files of an output step, the set-up report and the closing summary.
+
+#include <perideal/compute/region_compute.h>
+#include <perideal/discretization/point_cloud.h>
+#include <perideal/neighborhood/bonds.h>
+#include <perideal/output/output.h>
+#include <perideal/solver/state.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace perideal
+{
+  struct Deck;
+  class Discretization;
+  class ForceModel;
+  class Coupling;
+  class ConditionSet;
+  class TimeIntegrator;
+  class ContinuumField;
+
+  class Postprocess
+  {
+  public:
+    Postprocess(Deck &deck, Discretization &discretization, ForceModel &model, ConditionSet &conditions,
+                MechanicalState &state, RunRecord &record, const MPI_Comm comm, dealii::ConditionalOStream &pcout,
+                dealii::TimerOutput &timer);
+
+    /// The computes' points and nodes (each must hold one). Collective.
+    void
+    setup(Coupling *coupling);
+
+    /// The globals row of the current state (energies from the last
+    /// evaluation with energy). Sets record.last_kinetic_energy and
+    /// last_strain_energy. Collective.
+    std::vector<std::pair<std::string, double>>
+    global_quantities(const unsigned int step, const double time);
+    /// The globals row and/or the field files of @p step. Collective.
+    void
+    write_output(const unsigned int step, const double time, const bool globals = true, const bool field_files = true);
+
+    void
+    print_setup_report();
+    void
+    print_summary(const double loop_seconds, const unsigned int steps_done);
+
+    OutputWriter &output;
+
+  private:
+    Deck                       &deck;
+    Discretization             &discretization;
+    ForceModel                 &model;
+    ConditionSet               &conditions;
+    MechanicalState            &state;
+    RunRecord                  &record;
+    MPI_Comm                    comm;
+    dealii::ConditionalOStream &pcout;
+    dealii::TimerOutput        &timer;
+    Coupling                   *coupling      = nullptr;
+    ContinuumField             *continuum     = nullptr; // coupling's FE field
+    bool                        has_continuum = false;
+    std::vector<RegionCompute> &computes;
+    const PointCloud           &cloud;
+    const Bonds                &bonds;
+  };
+} // namespace perideal

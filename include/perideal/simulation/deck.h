@@ -1,0 +1,82 @@
+#pragma once
+// The parameter file, read (base/input.h: three passes, strict in the last)
+// into the parts' settings: scene, regions, bond filters, blocks with their
+// material and damage model instances, coupling, conditions, computes, the
+// solver and the output. Every registered time integrator parses its own
+// keys (so that their errors show whichever is chosen); the one of
+// Solver/Type runs.
+
+#include <perideal/base/input.h>
+#include <perideal/compute/region_compute.h>
+#include <perideal/conditions/boundary_conditions.h>
+#include <perideal/geometry/region.h>
+#include <perideal/geometry/scene.h>
+#include <perideal/model/block.h>
+#include <perideal/neighborhood/bond_filter.h>
+#include <perideal/output/output.h>
+#include <perideal/solver/implicit.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  class TimeIntegrator;
+
+  /// The user-chosen names of a parameter file (and the model of each).
+  struct DeckNames
+  {
+    std::vector<std::string>           regions, bond_filters, blocks, conditions, computes;
+    std::map<std::string, std::string> materials, damage_models; // name -> model ("" unknown yet)
+  };
+
+  /// Declares every section of the parameter file for the given names.
+  void
+  declare_parameters(ParameterHandler &prm, const DeckNames &names);
+
+  /// The full parameter reference, with one example entry of every model.
+  void
+  print_parameter_reference(std::ostream &out, const bool markdown);
+
+  /// Solver: what every integrator shares.
+  struct SolverParameters
+  {
+    std::string        type = "Verlet";
+    double             initial_time = 0, final_time = 0;
+    unsigned int       requested_steps     = 0;
+    double             energy_growth_limit = 0;
+    bool               track_dissipation   = false; // Solver/Track dissipated energy
+    ImplicitParameters implicit;                     // Solver/Implicit: Newton and the linear solvers
+  };
+
+  /// Coupling with continuum blocks (doc/coupling.md).
+  struct CouplingParameters
+  {
+    double blending_width       = 1;  // in horizons
+    int    virtual_point_levels = -1; // -1: auto
+  };
+
+  struct Deck
+  {
+    Deck();
+    ~Deck();
+
+    Scene                                          scene;
+    std::map<std::string, std::unique_ptr<Region>> regions;
+    std::vector<BondFilter>                        bond_filters;
+    std::vector<Block>                             blocks;
+    bool                                           has_continuum = false;
+    CouplingParameters                             coupling;
+    std::vector<BoundaryCondition>                 conditions;
+    std::vector<RegionCompute>                     computes;
+    SolverParameters                               solver;
+    std::unique_ptr<TimeIntegrator>                integrator; // the one of Solver/Type, parsed
+    OutputWriter                                   output;
+  };
+
+  /// Reads @p parameter_file into @p deck; an Error names the key or line.
+  void
+  read_deck(const std::string &parameter_file, Deck &deck);
+} // namespace perideal

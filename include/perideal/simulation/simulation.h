@@ -1,0 +1,62 @@
+#pragma once
+// The simulation owns the parts and runs them: the deck read from the
+// parameter file, the discretization, the force model, the coupling with
+// continuum blocks (only if there is one), the conditions, the
+// postprocessing, and the time integrator of Solver/Type, which sees the
+// others through a SimulatorAccess.
+
+#include <perideal/simulation/deck.h>
+#include <perideal/solver/state.h>
+#include <perideal/solver/time_integrator.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <memory>
+#include <string>
+
+namespace perideal
+{
+  class Discretization;
+  class ForceModel;
+  class Coupling;
+  class ConditionSet;
+  class Postprocess;
+
+  class Simulation
+  {
+  public:
+    Simulation(const std::string &parameter_file, const MPI_Comm comm);
+    ~Simulation();
+
+    /// Sets up and prints points, bonds, memory estimate and time step.
+    void
+    dry_run();
+
+    /// Sets up and integrates to the final time.
+    void
+    run();
+
+  private:
+    /// Mesh, points, bonds (rebalanced by bonds on several ranks), models,
+    /// coupling, conditions, computes, the integrator's time step.
+    void
+    setup(const bool dry_run_mode);
+    /// The parts, for the integrator (after setup()).
+    SimulatorAccess
+    access();
+
+    MPI_Comm                   comm;
+    dealii::ConditionalOStream pcout;
+    dealii::TimerOutput        timer;
+    Deck                       deck;
+    MechanicalState            state;
+    RunRecord                  record;
+
+    std::unique_ptr<Discretization> discretization;
+    std::unique_ptr<ForceModel>     model;
+    std::unique_ptr<Coupling>       coupling; // only with continuum blocks
+    std::unique_ptr<ConditionSet>   conditions;
+    std::unique_ptr<Postprocess>    post;
+  };
+} // namespace perideal

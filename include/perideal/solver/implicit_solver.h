@@ -1,0 +1,133 @@
+#pragma once
+// The implicit solve of one step (quasistatic and Newmark): R(u) = V (f(u) +
+// b) (- M a(u) for Newmark) = 0 on the free degrees of freedom by Newton's
+// method (newton.cc) with a backtracking line search; K du = R by a Krylov
+// solver with AMG (the six rigid-body modes as near null space) on the
+// assembled tangent, or Jacobian-free (linear_solver.cc). Bonds do not break
+// inside Newton; after a converged solve the damage models run, and the step
+// is solved again while bonds break.
+//
+// ImplicitIntegrator is what QuasiStatic and Newmark share: the solver, the
+// globals columns (Newton's counts, the reactions) and the reports.
+
+#include <perideal/conditions/condition_set.h>
+#include <perideal/solver/coupled_tangent.h>
+#include <perideal/solver/implicit.h>
+#include <perideal/solver/tangent.h>
+#include <perideal/solver/time_integrator.h>
+
+#include <deal.II/lac/trilinos_precondition.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  class ContinuumField;
+  class ImplicitSolver
+  {
+  public:
+    ImplicitSolver(const SimulatorAccess &access, const ImplicitParameters &parameters);
+
+    /// Tangent sparsity, prescribed DoFs, rigid-body modes (and, if
+    /// @p need_supports, the check that conditions remove them). Collective.
+    void
+    setup(const bool need_supports);
+    /// Newton, then break bonds and solve again while bonds break; sets
+    /// record.last_newton (iterations summed over the solves) and
+    /// record.last_damage_solves.
+    void
+    solve_step(const unsigned int step);
+    /// The tangent's kind and size, for the reports. Collective.
+    std::string
+    describe_tangent() const;
+
+    /// What the external work of an implicit step needs from its start: the
+    /// supports' forces, the displacements and the loads.
+    struct LoadPathState
+    {
+      std::vector<double> support, node_support, u, fe_u, body, load;
+    };
+    LoadPathState
+    load_path_state() const;
+    /// The work of the supports and the loads from @p start to now (trapezoid
+    /// rule over the step), summed over ranks.
+    double
+    load_path_work(const LoadPathState &start) const;
+
+    double              newmark_inertia = 0; // 1/(beta dt^2); 0: quasistatic
+    std::vector<double> u_predicted;         // Newmark predictor, owned DoFs
+    std::vector<double> fe_u_predicted;      // Newmark predictor, owned FE DoFs (continuum blocks)
+
+  private:
+    NewtonResult
+    solve_newton(const unsigned int step);
+    /// R = V (f + b) - M a on the free DoFs of the current displacement;
+    /// returns |R| and sets |V (f + b)| over all DoFs (the force scale).
+    double
+    residual(std::vector<double> &R, double &force_norm);
+    /// The unknowns on this rank: every owned PD DoF, or with continuum
+    /// blocks the free DoFs of coupled_tangent.h.
+    unsigned int
+    n_unknowns() const;
+    double &
+    unknown(const unsigned int j);
+    void
+    assemble_tangent();
+    /// Solves K du = R; returns the Krylov iterations.
+    unsigned int
+    solve_linear(const std::vector<double> &R, std::vector<double> &du);
+    /// The same without a matrix (Jacobian = Matrix free).
+    unsigned int
+    solve_matrix_free(const std::vector<double> &R, std::vector<double> &du);
+
+    const SimulatorAccess    &access;
+    const ImplicitParameters &implicit;
+    MPI_Comm                  comm;
+    dealii::ConditionalOStream &pcout;
+    dealii::TimerOutput       &timer;
+    const PointCloud          &cloud;
+    MechanicalState           &state;
+    ContinuumField            *continuum; // nullptr without continuum blocks
+    bool                       has_continuum;
+
+    std::unique_ptr<Tangent>        tangent;
+    std::unique_ptr<CoupledTangent> coupled_tangent; // with continuum blocks
+    bool                            symmetry_reported = false;
+    std::vector<std::uint8_t>       constrained_dofs; // per local DoF
+    std::vector<double>             rigid_modes;      // 6 x owned DoFs, column major
+    std::vector<double>             block_inverse;    // matrix free: 9 per owned point
+    std::unique_ptr<dealii::TrilinosWrappers::PreconditionAMG> amg; // of the current solve
+    bool                            rebuild_amg            = true;
+    unsigned int                    amg_iterations         = 0; // Krylov iterations with a fresh hierarchy
+    bool                            use_finite_differences = false;
+    double                          fd_step                = 0;
+  };
+
+  /// QuasiStatic and Newmark: an integrator that solves each step with an ImplicitSolver.
+  class ImplicitIntegrator : public TimeIntegrator
+  {
+  public:
+    void
+    dry_run() override;
+    void
+    report_summary_speed(const double loop_seconds, const unsigned int steps) const override;
+    void
+    add_globals(std::vector<std::pair<std::string, double>> &row) const override;
+
+  protected:
+    /// Whether the conditions must hold the body (no rigid motion left free).
+    virtual bool
+    need_supports() const = 0;
+    /// The solver, set up.
+    ImplicitSolver &
+    make_solver();
+    /// A scene with continuum blocks needs the assembled Jacobian.
+    static void
+    check_jacobian(const SolverParameters &solver, const bool has_continuum);
+
+    std::unique_ptr<ImplicitSolver> implicit_solver;
+  };
+} // namespace perideal

@@ -1,0 +1,133 @@
+#pragma once
+// The TimeIntegrator extension point (Solver/Type): Verlet, QuasiStatic and
+// Newmark are each one file in source/solver/ registered with
+// PERIDEAL_REGISTER(TimeIntegrator, Class, "Name", "documentation"). An
+// integrator sees the rest of the program through SimulatorAccess (ASPECT's
+// idea): the parts, the mechanical state and the run's record, and the steps
+// every integrator shares (evaluate the forces, record the initial state,
+// stop on a signal). Adding a fourth integrator touches no existing file but
+// CMakeLists.txt.
+
+#include <perideal/base/input.h>
+#include <perideal/solver/state.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace perideal
+{
+  struct Deck;
+  struct SolverParameters;
+  class Discretization;
+  class ForceModel;
+  class Coupling;
+  class ConditionSet;
+  class Postprocess;
+  class ImplicitSolver;
+
+  /// What an integrator (and the postprocessing) may reach. Collective
+  /// functions are marked so.
+  class SimulatorAccess
+  {
+  public:
+    MPI_Comm                    comm;
+    dealii::ConditionalOStream &pcout;
+    dealii::TimerOutput        &timer;
+    const Deck                 &deck;
+    Discretization             &discretization;
+    ForceModel                 &model;
+    Coupling                   *coupling; // nullptr without continuum blocks
+    ConditionSet               &conditions;
+    Postprocess                &post;
+    MechanicalState            &state;
+    RunRecord                  &record;
+
+    /// The FE field at the virtual points, then the displacement's ghosts.
+    void
+    update_ghosts() const;
+    /// Forces (and energy density) of the initial state, ghosts updated.
+    void
+    evaluate_initial_state() const;
+    /// Initial energy from the globals of step 0; writes step 0 if it is an
+    /// output step. Collective.
+    void
+    record_initial_state(const unsigned int n_steps, const double time) const;
+    /// Collective: stops if a rank has received SIGTERM or SIGINT during set-up.
+    void
+    stop_if_interrupted_in_setup() const;
+    /// Collective, after a completed @p step of a run of @p n_steps: writes
+    /// it where the output writes anything (what its own output did not write
+    /// already), prints the summary and throws Interrupted.
+    [[noreturn]] void
+    stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
+                     const double loop_seconds) const;
+  };
+
+  class TimeIntegrator
+  {
+  public:
+    virtual ~TimeIntegrator() = default;
+
+    /// Called inside subsection Solver for every registered integrator, so
+    /// that errors in its keys show whichever runs.
+    virtual void
+    parse_parameters(ParameterHandler &)
+    {}
+    /// Called for the chosen one: its keys against the shared ones.
+    virtual void
+    check_parameters(const SolverParameters &, const bool /*has_continuum*/) const
+    {}
+
+    /// Gives the integrator the parts (once they exist).
+    void
+    initialize(const SimulatorAccess &simulator)
+    {
+      access = std::make_unique<SimulatorAccess>(simulator);
+    }
+
+    /// After the model's set-up: the time step (record.dt) and its warnings.
+    virtual void
+    setup()
+    {}
+    /// Lines of the set-up report (the time step). Collective.
+    virtual void
+    report_setup() const
+    {}
+    /// --dry-run: what set-up the integrator itself does (an implicit
+    /// tangent's sparsity), reported.
+    virtual void
+    dry_run()
+    {}
+    /// Integrates from the initial state to the end.
+    virtual void
+    run() = 0;
+
+    /// How the summary names the loop ("time loop", "load steps").
+    virtual std::string
+    loop_name() const
+    {
+      return "time loop";
+    }
+    /// The summary's line on speed (bond updates per second; the tangent)
+    /// after a loop of @p loop_seconds over @p steps. Collective.
+    virtual void
+    report_summary_speed(const double /*loop_seconds*/, const unsigned int /*steps*/) const
+    {}
+    /// The summary's line on the time step. Collective.
+    virtual void
+    report_summary_step() const
+    {}
+    /// Columns the integrator adds to a globals row (Newton's counts,
+    /// reactions). Collective.
+    virtual void
+    add_globals(std::vector<std::pair<std::string, double>> &) const
+    {}
+
+  protected:
+    std::unique_ptr<SimulatorAccess> access;
+  };
+} // namespace perideal

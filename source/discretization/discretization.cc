@@ -1,0 +1,455 @@
+// The mesh, DoFs, point cloud and bonds (discretization.h).
+
+#include <perideal/base/best_point.h>
+#include <perideal/base/format.h>
+#include <perideal/discretization/discretization.h>
+#include <perideal/discretization/size_estimate.h>
+#include <perideal/neighborhood/partial_volumes.h>
+#include <perideal/simulation/deck.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/mpi.templates.h>
+#include <deal.II/fe/fe_dgq.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/numerics/rtree.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace perideal
+{
+  using namespace dealii;
+  namespace bgi = boost::geometry::index;
+
+  Discretization::Discretization(Deck &deck, const MPI_Comm comm, ConditionalOStream &pcout, TimerOutput &timer,
+                                 const bool dry_run_mode)
+    : scene(deck.scene)
+    , regions(deck.regions)
+    , bond_filters(deck.bond_filters)
+    , blocks(deck.blocks)
+    , has_continuum(deck.has_continuum)
+    , triangulation(comm)
+    , fe(FESystem<dim>(FE_DGQ<dim>(0), dim), FESystem<dim>(FE_Q<dim>(1), dim), FESystem<dim>(FE_Q<dim>(2), dim))
+    , dof_handler(triangulation)
+    , comm(comm)
+    , pcout(pcout)
+    , timer(timer)
+    , blending_width(deck.coupling.blending_width)
+    , virtual_point_levels(deck.coupling.virtual_point_levels)
+    , dry_run_mode(dry_run_mode)
+  {}
+
+  void
+  Discretization::check_region_expressions() const
+  {
+    std::vector<const Expression *> expressions;
+    for (const auto &[name, region] : regions)
+      expressions.push_back(region->user_expression());
+    check_finite(expressions, comm);
+  }
+
+  int
+  Discretization::block_of_cell(const CellIterator &cell) const
+  {
+    for (unsigned int b = 0; b < blocks.size(); ++b)
+      {
+        const Block &block = blocks[b];
+        if (!block.region.empty())
+          {
+            if (in_region(block.region, cell->center(), cell))
+              return b;
+          }
+        else if (std::find(block.material_ids.begin(), block.material_ids.end(), cell->material_id()) !=
+                 block.material_ids.end())
+          return b;
+      }
+    return -1;
+  }
+
+  void
+  Discretization::check_blocks_have_cells() const
+  {
+    // Per block: the cells it claims, and the cells its own criterion holds
+    // (region or material ids), whether or not an earlier block claims them.
+    const auto holds = [this](const Block &block, const CellIterator &cell) {
+      return block.region.empty() ?
+               std::find(block.material_ids.begin(), block.material_ids.end(), cell->material_id()) !=
+                 block.material_ids.end() :
+               in_region(block.region, cell->center(), cell);
+    };
+    std::vector<unsigned int> claimed(blocks.size(), 0), held(blocks.size(), 0);
+    std::vector<int>          first_claimer(blocks.size(), -1);
+    std::set<unsigned int>    ids;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          ids.insert(cell->material_id());
+          const int b = block_of_cell(cell);
+          if (b >= 0)
+            ++claimed[b];
+          for (unsigned int k = 0; k < blocks.size(); ++k)
+            if (int(k) != b && holds(blocks[k], cell))
+              {
+                ++held[k];
+                if (b >= 0 && (first_claimer[k] < 0 || b < first_claimer[k]))
+                  first_claimer[k] = b;
+              }
+        }
+    Utilities::MPI::sum(claimed, comm, claimed);
+    Utilities::MPI::sum(held, comm, held);
+    for (auto &b : first_claimer)
+      b = -Utilities::MPI::max(-(b < 0 ? int(blocks.size()) : b), comm);
+    const std::set<unsigned int> all_ids = Utilities::MPI::compute_set_union(ids, comm);
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      if (claimed[k] == 0)
+        {
+          const Block &block = blocks[k];
+          const std::string path = "Blocks/" + block.name;
+          std::string       why;
+          if (held[k] > 0 && first_claimer[k] < int(blocks.size()))
+            why = "every cell its " + std::string(block.region.empty() ? "Material ids" : "Region '" + block.region + "'") +
+                  " holds is claimed by block '" + blocks[first_claimer[k]].name +
+                  "', listed before it in Blocks/Names (a cell belongs to the first block that claims it): list '" +
+                  block.name + "' first, or give '" + blocks[first_claimer[k]].name + "' a Region that leaves these cells out";
+          else if (block.region.empty())
+            {
+              std::string want, have;
+              for (const auto id : block.material_ids)
+                want += (want.empty() ? "" : ", ") + std::to_string(id);
+              for (const auto id : all_ids)
+                have += (have.empty() ? "" : ", ") + std::to_string(id);
+              why = "no cell has Material ids " + want + " (the mesh's material ids: " + have +
+                    "): fix " + path + "/Material ids or set " + path + "/Region";
+            }
+          else
+            why = "no cell centre lies in its Region '" + block.region + "': check Discretization/Regions/" +
+                  block.region + " against the mesh's extent";
+          AssertThrow(false,
+                      ExcMessage(path + ": the block holds no cell, so its material and settings would be "
+                                        "silently unused: " + why + "; or remove it from Blocks/Names"));
+        }
+  }
+
+  void
+  Discretization::setup()
+  {
+    {
+      TimerOutput::Scope t(timer, "setup: mesh and points");
+      // The size before allocating it (size_check.cc): a built-in scene from
+      // its parameters, a Gmsh mesh once read (bounded by the file's size).
+      const AvailableMemory available = available_memory(comm);
+      report_p4est_out_of_memory();
+      check_scene_size(available);
+      scene.create_triangulation(triangulation);
+      if (scene.type == "Gmsh")
+        check_mesh_size(available, "the mesh", "Discretization/Gmsh/Mesh file");
+      for (const auto &name : scene.refinement_regions)
+        AssertThrow(regions.count(name) || name == "All",
+                    ExcMessage("Discretization/Refinement regions: '" + name +
+                               "' is not defined in Discretization/Regions/Names"));
+      const unsigned int most =
+        scene.refinement_levels.empty() ? 0 :
+                                          *std::max_element(scene.refinement_levels.begin(), scene.refinement_levels.end());
+      // The scene may already refine a coarser mesh globally (a box of
+      // 2^k cells): count the levels from the scene's cells.
+      int base = std::numeric_limits<int>::max();
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          base = std::min(base, cell->level());
+      base = -Utilities::MPI::max(-base, comm);
+      // The deepest level a cell can reach: p8est counts at most P8EST_QMAXLEVEL.
+      // (Refinement levels <= 6 and a box's own <= 6: a guard for larger ones.)
+      const int deepest = base + int(most);
+      AssertThrow(most == 0 || deepest <= 18,
+                  ExcMessage("Discretization/Refinement levels: the cells would reach refinement level " +
+                             std::to_string(deepest) + " (the scene's own " + std::to_string(base) + " plus " +
+                             std::to_string(most) + "), beyond p4est's limit P8EST_QMAXLEVEL = 18: use fewer levels"));
+      // Region All refines every cell: 8^levels times the cells, known now.
+      unsigned int everywhere = 0;
+      for (unsigned int r = 0; r < scene.refinement_regions.size(); ++r)
+        if (scene.refinement_regions[r] == "All")
+          everywhere = std::max(everywhere, scene.refinement_levels[r]);
+      if (everywhere > 0)
+        check_mesh_size(available,
+                        "refining every cell " + std::to_string(everywhere) + " times (region All, to level " +
+                          std::to_string(base + everywhere) + ")",
+                        "Discretization/Refinement levels", std::pow(8.0, everywhere));
+      for (unsigned int level = 0; level < most; ++level)
+        {
+          for (const auto &cell : dof_handler.active_cell_iterators())
+            if (cell->is_locally_owned())
+              for (unsigned int r = 0; r < scene.refinement_regions.size(); ++r)
+                if (scene.refinement_levels[r] > level && cell->level() == base + int(level) &&
+                    in_region(scene.refinement_regions[r], cell->center(), cell))
+                  cell->set_refine_flag();
+          // 8 cells for each flagged one: the size before p4est allocates it.
+          check_mesh_size(available,
+                          "refinement pass " + std::to_string(level + 1) + " of " + std::to_string(most) +
+                            " (to level " + std::to_string(base + level + 1) + ")",
+                          "Discretization/Refinement levels");
+          triangulation.execute_coarsening_and_refinement();
+        }
+      check_region_expressions();
+      if (most > 0)
+        check_mesh_size(available, "the refined mesh", "Discretization/Refinement levels");
+    }
+    build_points_and_bonds();
+
+    // p4est gives every rank the same number of cells, but a step costs
+    // about one unit per bond, and points near a free surface or in a small
+    // horizon have fewer bonds. Repartition with the family size as the cell
+    // weight and build again when the bonds are out of balance by more than 1%.
+    if (Utilities::MPI::n_mpi_processes(comm) > 1)
+      {
+        const auto balance = Utilities::MPI::min_max_avg(double(bonds.n_bonds()), comm);
+        if (balance.max > 1.01 * balance.avg)
+          {
+            {
+              TimerOutput::Scope t(timer, "setup: mesh and points");
+              // A cell's weight: its bonds plus a few for the per-point work
+              // (time integration, ghost exchange); cells without a point: 1.
+              for (const auto &cell : triangulation.active_cell_iterators())
+                if (cell->is_locally_owned())
+                  cell->set_user_index(1);
+              for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+                {
+                  const unsigned int weight = bonds.offsets[i + 1] - bonds.offsets[i] + 4;
+                  // Virtual points share their FE cell.
+                  cloud.cell[i]->set_user_index(is_virtual(i) ? cloud.cell[i]->user_index() + weight : weight);
+                }
+              const auto connection = triangulation.signals.weight.connect(
+                [](const Triangulation<dim>::cell_iterator &cell, const Triangulation<dim>::CellStatus) -> unsigned int {
+                  return cell->user_index();
+                });
+              triangulation.repartition();
+              connection.disconnect();
+            }
+            unbalanced_bonds = 100 * (balance.max / balance.avg - 1);
+            build_points_and_bonds();
+          }
+      }
+    check_isolated_points();
+  }
+
+  void
+  Discretization::build_points_and_bonds()
+  {
+    {
+      TimerOutput::Scope t(timer, "setup: mesh and points");
+
+      const auto block_of = [this](const CellIterator &cell) { return block_of_cell(cell); };
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const int b = block_of(cell);
+            cell->set_active_fe_index(b >= 0 && blocks[b].continuum ? blocks[b].fe_degree : 0);
+          }
+      dof_handler.distribute_dofs(fe);
+
+      double max_horizon = 0;
+      for (const auto &b : blocks)
+        max_horizon = std::max(max_horizon, b.horizon);
+      // Free the previous partition's points and bonds first: a rebuild must
+      // not raise the peak memory.
+      cloud             = PointCloud();
+      bonds             = Bonds();
+      cloud.periodicity = scene.periodicity(triangulation);
+      AssertThrow(!(has_continuum && cloud.periodicity.any()),
+                  ExcMessage("Discretization/Periodic directions: not available with continuum blocks, whose FE "
+                             "field would need periodic constraints: make every block Peridynamic"));
+      if (has_continuum)
+        build_coupled_cloud(block_of, max_horizon);
+      else
+        cloud.build(dof_handler, block_of, max_horizon, comm, {}, scene.partial_volumes);
+
+      if (cloud.n_global() == 0 && !has_continuum)
+        {
+          std::set<unsigned int> ids;
+          for (const auto &cell : triangulation.active_cell_iterators())
+            if (cell->is_locally_owned())
+              ids.insert(cell->material_id());
+          std::string list;
+          for (const auto id : ids)
+            list += (list.empty() ? "" : ", ") + std::to_string(id);
+          AssertThrow(false, ExcMessage("no cell belongs to any block: check Blocks/*/Material ids "
+                                        "or Region (material ids in the mesh on rank 0: " + list + ")"));
+        }
+      check_blocks_have_cells();
+      unsigned int bad_volume = 0;
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        if (!(cloud.volume[i] > 0))
+          ++bad_volume;
+      bad_volume = Utilities::MPI::sum(bad_volume, comm);
+      AssertThrow(bad_volume == 0,
+                  ExcMessage(std::to_string(bad_volume) + " cells have zero or negative volume: "
+                             "the mesh is degenerate or inverted"));
+    }
+    {
+      TimerOutput::Scope        t(timer, "setup: neighbor search");
+      std::vector<double>       horizon(blocks.size());
+      for (unsigned int b = 0; b < blocks.size(); ++b)
+        horizon[b] = blocks[b].horizon;
+      bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius);
+      if (scene.partial_volumes)
+        {
+          compute_partial_volumes(cloud, bonds, horizon);
+          cloud.cell_vertices = std::vector<double>(); // set-up only
+        }
+      if (!bond_filters.empty())
+        apply_bond_filters();
+      if (has_continuum)
+        drop_unweighted_bonds();
+    }
+  }
+
+  void
+  Discretization::apply_bond_filters()
+  {
+    filtered_bonds.assign(bond_filters.size(), 0);
+    const bool periodic = cloud.periodicity.any();
+    bonds.keep_if(cloud.n_owned(), [&](const unsigned int i, const unsigned int j) {
+      // Across a periodic face the bond has two images, one at each end's
+      // face; either cut cuts it, so that both owners decide alike.
+      const Point<dim> xi = cloud.position(i), xj = cloud.position(j);
+      const auto       e  = cloud.bond_vector(i, j);
+      for (unsigned int f = 0; f < bond_filters.size(); ++f)
+        if (periodic ? bond_filters[f].cuts(xi, xi + e) || bond_filters[f].cuts(xj - e, xj) :
+                       bond_filters[f].cuts(xi, xj))
+          {
+            ++filtered_bonds[f];
+            return false;
+          }
+      return true;
+    });
+    Utilities::MPI::sum(filtered_bonds, comm, filtered_bonds);
+  }
+
+  void
+  Discretization::check_isolated_points() const
+  {
+    // A point without a neighbor cannot carry load: a horizon below the spacing.
+      unsigned int isolated = 0;
+      BestPoint    first(BestPoint::Order::smallest); // the smallest global id
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        if (bonds.offsets[i + 1] == bonds.offsets[i] && !is_virtual(i)) // see drop_unweighted_bonds()
+          {
+            ++isolated;
+            first.consider(0, cloud.gid[i], &cloud.X[3 * i], BestPoint::Kind::point, cloud.block[i]);
+          }
+      const unsigned int total = Utilities::MPI::sum(isolated, comm);
+      if (total > 0)
+        {
+          const BestPoint p     = first.global(comm);
+          const Block    &block = blocks[static_cast<unsigned int>(p.tag)];
+          AssertThrow(false,
+                      ExcMessage(std::to_string(total) + " points have no neighbor within the horizon, "
+                                 "the first " + p.describe() +
+                                 " in block '" + block.name + "' with horizon " + sci(block.horizon) +
+                                 ": the horizon must exceed the point spacing (Blocks/" + block.name +
+                                 "/Horizon or Discretization/Horizon)"));
+        }
+  }
+
+  double
+  Discretization::point_spacing() const
+  {
+    double h = std::numeric_limits<double>::max();
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!is_virtual(i))
+        h = std::min(h, std::cbrt(cloud.volume[i]));
+    return Utilities::MPI::min(h, comm);
+  }
+
+  void
+  Discretization::build_coupled_cloud(const std::function<int(const CellIterator &)> &block_of, const double max_horizon)
+  {
+    // The PD points within reach of this rank's FE cells: one probe point per
+    // FE cell makes the ghost exchange bring them.
+    double largest_cell = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        largest_cell = std::max(largest_cell, cell->diameter());
+    largest_cell         = Utilities::MPI::max(largest_cell, comm);
+    const int probe      = blocks.size();
+    const double reach   = (1 + blending_width) * max_horizon + largest_cell;
+    PointCloud   nearby;
+    nearby.build(dof_handler,
+                 [&](const CellIterator &cell) -> int {
+                   const int b = block_of(cell);
+                   return b < 0 ? -1 : blocks[b].continuum ? probe : b;
+                 },
+                 reach, comm);
+    std::vector<std::pair<Point<dim>, unsigned int>> pd;
+    for (unsigned int i = 0; i < nearby.n_local(); ++i)
+      if (nearby.block[i] != probe)
+        pd.emplace_back(nearby.position(i), i);
+    const auto tree = pack_rtree(pd);
+
+    // Distance to the interface: to the nearest PD point less half its
+    // spacing; alpha falls from 1 to 0 over the band (a step without one).
+    struct Nearest
+    {
+      double distance, band, horizon, volume; // volume: of the nearest PD point
+    };
+    const auto nearest = [&](const Point<dim> &x) -> Nearest {
+      for (const auto &p : tree | bgi::adaptors::queried(bgi::nearest(x, 1)))
+        {
+          const unsigned int i = p.second;
+          const double       h = blocks[nearby.block[i]].horizon;
+          return {std::max(0.0, x.distance(p.first) - 0.5 * std::cbrt(nearby.volume[i])), blending_width * h, h,
+                  nearby.volume[i]};
+        }
+      return {std::numeric_limits<double>::max(), 0, 0, 1};
+    };
+    const auto alpha = [](const Nearest &n) {
+      return n.band > 0 ? std::max(0.0, 1 - n.distance / n.band) : 0.0;
+    };
+
+    cell_fe_weight.assign(triangulation.n_active_cells(), 1.0);
+    cell_virtual.assign(triangulation.n_active_cells(), 0);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        {
+          const Nearest n = nearest(cell->center());
+          cell_fe_weight[cell->active_cell_index()] = 1 - alpha(n);
+          // Virtual points serve up to a horizon beyond the band, at about
+          // the nearest PD point's spacing (auto levels).
+          if (n.distance - 0.5 * cell->diameter() <= (n.band + n.horizon) * (1 + 1e-9))
+            {
+              const double ratio  = std::cbrt(cell->measure() / n.volume);
+              const int    levels = virtual_point_levels >= 0 ? virtual_point_levels :
+                                                                std::max(0, int(std::lround(std::log2(ratio))));
+              cell_virtual[cell->active_cell_index()] = 1 + levels;
+            }
+        }
+
+    cloud.build(dof_handler,
+                [&](const CellIterator &cell) -> int {
+                  const int b = block_of(cell);
+                  return b >= 0 && blocks[b].continuum && !cell_virtual[cell->active_cell_index()] ? -1 : b;
+                },
+                max_horizon, comm,
+                [&](const CellIterator &cell) -> unsigned int {
+                  return cell->active_fe_index() > 0 ? cell_virtual[cell->active_cell_index()] - 1 : 0;
+                },
+                scene.partial_volumes);
+    point_alpha.assign(cloud.n_owned(), 1.0);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (blocks[cloud.block[i]].continuum)
+        point_alpha[i] = alpha(nearest(cloud.position(i)));
+  }
+
+  void
+  Discretization::drop_unweighted_bonds()
+  {
+    VectorType alpha(cloud.scalar_partitioner);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      alpha.local_element(i) = point_alpha[i];
+    alpha.update_ghost_values();
+    bonds.keep_if(cloud.n_owned(), [&](const unsigned int i, const unsigned int j) {
+      return point_alpha[i] > 0 || alpha.local_element(j) > 0;
+    });
+  }
+} // namespace perideal

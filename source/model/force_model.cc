@@ -1,0 +1,327 @@
+// The force model (force_model.h): materials and damage models per block.
+
+#include <perideal/base/format.h>
+#include <perideal/continuum/coupling.h>
+#include <perideal/model/force_model.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <typeinfo>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  ForceModel::ForceModel(Discretization &discretization, MechanicalState &mechanical, RunRecord &record,
+                         const MPI_Comm comm, TimerOutput &timer)
+    : blocks(discretization.blocks)
+    , discretization(discretization)
+    , cloud(discretization.cloud)
+    , bonds(discretization.bonds)
+    , mechanical(mechanical)
+    , record(record)
+    , comm(comm)
+    , timer(timer)
+  {}
+
+  void
+  ForceModel::attach(const std::vector<double> &body_force_, Coupling *coupling_)
+  {
+    body_force = &body_force_;
+    coupling   = coupling_;
+  }
+
+  void
+  ForceModel::setup()
+  {
+    for (auto &block : blocks)
+      block.points.clear();
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      blocks[cloud.block[i]].points.push_back(i);
+
+    // Bonds between blocks of different models cannot be evaluated by either.
+    {
+      std::vector<std::string> model(blocks.size());
+      for (unsigned int b = 0; b < blocks.size(); ++b)
+        model[b] = typeid(*blocks[b].material).name();
+      bool mixed = false, mixed_damage = false;
+      std::pair<unsigned int, unsigned int> pair{0, 0};
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+          {
+            const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
+            if (bi != bj && model[bi] != model[bj])
+              mixed = true, pair = {bi, bj};
+            if (bi != bj && blocks[bi].damage_name != blocks[bj].damage_name)
+              mixed_damage = true;
+          }
+      const unsigned int any = Utilities::MPI::max(mixed ? 1u : 0u, comm);
+      AssertThrow(any == 0,
+                  ExcMessage("blocks '" + blocks[pair.first].name + "' and '" + blocks[pair.second].name +
+                             "' (or others) are within a horizon of each other but use different "
+                             "material models; bonds between models are not defined: use the same "
+                             "model with different parameters, or separate the blocks by more than "
+                             "a horizon"));
+      if (Utilities::MPI::max(mixed_damage ? 1u : 0u, comm))
+        record.warnings.push_back("bonds join blocks with different damage models; each half of such a "
+                           "bond is decided by its own block's model");
+    }
+
+    bool any_damage = false;
+    for (const auto &b : blocks)
+      any_damage |= b.damage != nullptr;
+    if (any_damage)
+      broken.assign(bonds.n_bonds(), 0);
+
+    fields = std::make_unique<FieldStore>(cloud);
+    mechanical.displacement.reinit(cloud.vector_partitioner);
+    mechanical.velocity.reinit(cloud.vector_partitioner);
+    mechanical.force.reinit(cloud.vector_partitioner);
+    mechanical.mass_density.resize(cloud.n_owned());
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      mechanical.mass_density[i] = discretization.is_virtual(i) ? 0.0 : blocks[cloud.block[i]].material->density(); // virtual: no mass of their own
+
+    ModelState state{cloud, bonds, nullptr, mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
+    std::set<std::string> constant, stage;
+    fused_breaking.clear();
+    for (unsigned int b = 0; b < blocks.size(); ++b)
+      {
+        blocks[b].material->set_block(b, blocks[b].horizon);
+        blocks[b].material->initialize(state, blocks[b].points);
+        if (blocks[b].continuum)
+          AssertThrow(blocks[b].material->weight_energy(state, blocks[b].points, discretization.point_alpha.data()),
+                      ExcMessage("Blocks/" + blocks[b].name + "/Type: material '" + blocks[b].material_name +
+                                 "' cannot weight its energy, so it cannot be coupled to a continuum block"));
+        if (blocks[b].damage)
+          blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
+        fused_breaking.emplace_back();
+        if (blocks[b].damage && blocks[b].damage->critical_stretch() > 0 &&
+            blocks[b].material->fuses_stretch_criterion())
+          {
+            fused_breaking.back().squared_limit =
+              stretch_squared_limit(blocks[b].damage->critical_stretch());
+            fused_breaking.back().broken = broken.data();
+          }
+        for (const auto &f : blocks[b].material->constant_fields())
+          constant.insert(f);
+        for (const auto &f : blocks[b].material->stage_fields())
+          stage.insert(f);
+      }
+    for (const auto &f : constant)
+      fields->get(f).update_ghost_values();
+    for (const auto &f : stage)
+      fields->get(f); // allocate before the loop: no allocation per step
+    ghosted_stage_fields.assign(stage.begin(), stage.end());
+  }
+
+  bool
+  ForceModel::add_tangent(TangentRows &rows) const
+  {
+    const ModelState state{cloud,
+                           bonds,
+                           broken.empty() ? nullptr : broken.data(),
+                           mechanical.displacement.begin(),
+                           mechanical.force.begin(),
+                           nullptr,
+                           *fields};
+    for (const auto &block : blocks)
+      if (!block.points.empty() && !block.material->add_tangent(state, block.points, rows))
+        return false;
+    return true;
+  }
+
+  void
+  ForceModel::compute_forces(const bool with_energy)
+  {
+    const unsigned int n = cloud.n_owned();
+    std::fill(mechanical.force.begin(), mechanical.force.begin() + dim * n, 0.0);
+    if (with_energy)
+      mechanical.energy_density.assign(n, 0.0);
+    ModelState state{cloud,
+                     bonds,
+                     broken.empty() ? nullptr : broken.data(),
+                     mechanical.displacement.begin(),
+                     mechanical.force.begin(),
+                     with_energy ? mechanical.energy_density.data() : nullptr,
+                     *fields};
+    // A block whose material applies its critical stretch in its own first
+    // bond pass (fused_breaking) gets it there; other damage models run their
+    // own pass first.
+    const auto block_state = [&](const unsigned int k) {
+      ModelState s = state;
+      s.breaking   = breaking_allowed && fused_breaking[k].squared_limit > 0 ? &fused_breaking[k] : nullptr;
+      return s;
+    };
+    if (!broken.empty() && breaking_allowed)
+      {
+        TimerOutput::Scope t(timer, "damage");
+        for (unsigned int k = 0; k < blocks.size(); ++k)
+          if (blocks[k].damage && fused_breaking[k].squared_limit == 0)
+            broken_bond_count += blocks[k].damage->update(state, blocks[k].points, broken.data());
+      }
+    {
+      TimerOutput::Scope t(timer, "force");
+      for (unsigned int k = 0; k < blocks.size(); ++k)
+        blocks[k].material->compute_stage(block_state(k), blocks[k].points);
+    }
+    if (!ghosted_stage_fields.empty())
+      {
+        TimerOutput::Scope t(timer, "ghost exchange");
+        for (const auto &f : ghosted_stage_fields)
+          fields->get(f).update_ghost_values();
+      }
+    {
+      TimerOutput::Scope t(timer, "force");
+      for (unsigned int k = 0; k < blocks.size(); ++k)
+        blocks[k].material->compute_force(block_state(k), blocks[k].points);
+    }
+    for (auto &b : fused_breaking)
+      {
+        broken_bond_count += b.newly_broken;
+        b.newly_broken = 0;
+      }
+    if (!body_force->empty())
+      for (unsigned int k = 0; k < dim * n; ++k)
+        mechanical.force.local_element(k) += (*body_force)[k];
+    if (coupling)
+      {
+        // The virtual points' forces go to the FE nodes (Pi^T), action = reaction.
+        TimerOutput::Scope t(timer, "continuum");
+        coupling->transfer_forces(cloud, mechanical.force);
+      }
+  }
+
+  double
+  ForceModel::stable_time_step()
+  {
+    ModelState state{cloud, bonds, nullptr, mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
+    double     local = std::numeric_limits<double>::max();
+    // Constants each within double's range can still overflow in the force
+    // law (K / horizon^4, sqrt(K / rho)): refuse them here, naming them,
+    // before they surface as a blow-up blamed on the loading.
+    std::vector<unsigned int> bad(blocks.size(), 0);
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      {
+        const Block &b = blocks[k];
+        if (!b.points.empty() && !b.continuum) // virtual points carry no mass: the FE nodes do
+          {
+            const double dt_block = b.material->stable_time_step(state, b.points);
+            // The largest double: no point of the block has any stiffness.
+            bad[k] = !(dt_block > 0 && dt_block < std::numeric_limits<double>::max());
+            local                 = std::min(local, dt_block);
+          }
+      }
+    Utilities::MPI::max(bad, comm, bad);
+    const double fe = coupling ? coupling->continuum.stable_time_step() : std::numeric_limits<double>::max();
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      {
+        const Block &b = blocks[k];
+        AssertThrow(!bad[k] && (!b.continuum || (fe > 0 && fe < std::numeric_limits<double>::max())),
+                    ExcMessage("Materials/" + b.material_name + ": in block '" + b.name + "' (horizon " +
+                               sci(b.horizon) + ") its constants (Bulk modulus " + sci(b.material->bulk_modulus()) +
+                               ", Shear modulus " + sci(b.material->shear_modulus()) + ", Density " +
+                               sci(b.material->density()) + ") give no finite stable time step: the force law " +
+                               "leaves the range of double (the micromodulus is about 18 K / (pi horizon^4)). " +
+                               "Give the constants and lengths in units that keep them nearer to 1 (e.g. MPa, mm)"));
+      }
+    const double pd = Utilities::MPI::min(local, comm);
+    return coupling ? std::min(pd, fe) : pd;
+  }
+
+  double
+  ForceModel::point_damage(const unsigned int i) const
+  {
+    if (broken.empty())
+      return 0.0;
+    double all = 0, intact = 0;
+    for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+      {
+        const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b);
+        all += V;
+        intact += broken[b] ? 0 : V;
+      }
+    return 1 - intact / all;
+  }
+
+  double
+  ForceModel::point_stretch(const unsigned int i) const
+  {
+    double       largest = -std::numeric_limits<double>::max();
+    const double *u = mechanical.displacement.begin();
+    for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+      {
+        if (!broken.empty() && broken[b])
+          continue;
+        const unsigned int j  = bonds.neighbor[b];
+        const auto         xi = cloud.bond_vector(i, j);
+        double             r0 = 0, r = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const double y = xi[d] + u[dim * j + d] - u[dim * i + d];
+            r0 += xi[d] * xi[d];
+            r += y * y;
+          }
+        largest = std::max(largest, std::sqrt(r / r0) - 1);
+      }
+    return largest == -std::numeric_limits<double>::max() ? 0 : largest;
+  }
+
+  double
+  ForceModel::fastest_bonded_speed() const
+  {
+    // A point whose bonds are all broken interacts with nothing: it may fly
+    // at any speed. Its family is looked at only if it is the fastest yet.
+    double fastest = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        const double *v = mechanical.velocity.begin() + dim * i;
+        const double  s = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        if (s <= fastest || mechanical.mass_density[i] == 0)
+          continue;
+        bool bonded = broken.empty();
+        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1] && !bonded; ++b)
+          bonded = !broken[b];
+        if (bonded)
+          fastest = s;
+      }
+    return std::sqrt(Utilities::MPI::max(fastest, comm));
+  }
+
+  double
+  ForceModel::released_energy(std::vector<std::uint8_t> &mask_before)
+  {
+    const auto strain_energy = [&]() {
+      double e = 0;
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        e += mechanical.energy_density[i] * cloud.volume[i];
+      return e;
+    };
+    const bool allowed = breaking_allowed;
+    breaking_allowed   = false;
+    broken.swap(mask_before);
+    compute_forces(true);
+    const double before = strain_energy();
+    broken.swap(mask_before);
+    compute_forces(true);
+    breaking_allowed = allowed;
+    return Utilities::MPI::sum(before - strain_energy(), comm);
+  }
+
+  std::size_t
+  ForceModel::break_bonds()
+  {
+    TimerOutput::Scope t(timer, "damage");
+    mechanical.displacement.update_ghost_values();
+    ModelState state{cloud, bonds, broken.data(), mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
+    std::size_t newly = 0;
+    for (auto &block : blocks)
+      if (block.damage)
+        newly += block.damage->update(state, block.points, broken.data());
+    broken_bond_count += newly;
+    return Utilities::MPI::sum(newly, comm);
+  }
+} // namespace perideal

@@ -1,0 +1,421 @@
+// What a run reports (postprocess.h): globals, field files, set-up report
+// and closing summary.
+
+#include <perideal/base/expression.h>
+#include <perideal/base/format.h>
+#include <perideal/base/memory.h>
+#include <perideal/conditions/condition_set.h>
+#include <perideal/continuum/coupling.h>
+#include <perideal/model/force_model.h>
+#include <perideal/output/postprocess.h>
+#include <perideal/simulation/deck.h>
+#include <perideal/solver/time_integrator.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/dofs/dof_tools.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <iomanip>
+#include <limits>
+#include <memory>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  Postprocess::Postprocess(Deck &deck, Discretization &discretization, ForceModel &model, ConditionSet &conditions,
+                           MechanicalState &state, RunRecord &record, const MPI_Comm comm, ConditionalOStream &pcout,
+                           TimerOutput &timer)
+    : output(deck.output)
+    , deck(deck)
+    , discretization(discretization)
+    , model(model)
+    , conditions(conditions)
+    , state(state)
+    , record(record)
+    , comm(comm)
+    , pcout(pcout)
+    , timer(timer)
+    , computes(deck.computes)
+    , cloud(discretization.cloud)
+    , bonds(discretization.bonds)
+  {}
+
+  void
+  Postprocess::setup(Coupling *coupling_)
+  {
+    coupling      = coupling_;
+    continuum     = coupling ? &coupling->continuum : nullptr;
+    has_continuum = coupling != nullptr;
+    for (auto &compute : computes)
+      {
+        compute.points.clear();
+        for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+          if (!discretization.is_virtual(i) && discretization.in_region(compute.region, cloud.position(i), cloud.cell[i]))
+            compute.points.push_back(i);
+        compute.nodes.clear();
+        if (has_continuum)
+          for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+            {
+              const auto &node = continuum->nodes[k];
+              if (compute.uses_node(node.component) && discretization.in_region(compute.region, node.x, node.cell))
+                compute.nodes.push_back(k);
+            }
+        // Over nothing, a Minimum is +1.8e308, a Mean 0: numbers that look
+        // like results. A compute over an empty region is a mistake.
+        AssertThrow(Utilities::MPI::sum(compute.points.size() + compute.nodes.size(), comm) > 0,
+                    ExcMessage("Computes/" + compute.name + "/Region: the region '" + compute.region +
+                               "' holds no point" + (has_continuum ? " or FE node" : "") +
+                               " of the body, so '" + compute.operation + "' of " + compute.variable +
+                               " over it has no value: check Discretization/Regions/" + compute.region +
+                               " against the mesh's extent"));
+      }
+  }
+
+  std::vector<std::pair<std::string, double>>
+  Postprocess::global_quantities(const unsigned int step, const double time)
+  {
+    const unsigned int n  = cloud.n_owned();
+    double             ke = 0, se = 0, max_damage = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const double *v = state.velocity.begin() + dim * i;
+        ke += 0.5 * state.mass_density[i] * cloud.volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        se += state.energy_density[i] * cloud.volume[i];
+      }
+    std::size_t broken_local = 0;
+    if (!model.broken.empty())
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+            broken_local += model.broken[b];
+          max_damage = std::max(max_damage, model.point_damage(i));
+        }
+    ke                  = Utilities::MPI::sum(ke, comm);
+    se                  = Utilities::MPI::sum(se, comm);
+    if (has_continuum)
+      {
+        ke += continuum->kinetic_energy();
+        se += continuum->strain_energy();
+      }
+    record.last_kinetic_energy = ke;
+    record.last_strain_energy  = se;
+    max_damage         = Utilities::MPI::max(max_damage, comm);
+    const double broken_bonds = Utilities::MPI::sum(double(broken_local), comm) / 2;
+    std::vector<std::pair<std::string, double>> row{{"step", step},
+                                                    {"time", time},
+                                                    {"kinetic_energy", ke},
+                                                    {"strain_energy", se},
+                                                    {"external_work", record.external_work},
+                                                    {"broken_bonds", broken_bonds},
+                                                    {"max_damage", max_damage}};
+    for (const auto &compute : computes)
+      {
+        const std::function<double(unsigned int)> value =
+          compute.variable == "Damage" ? std::function<double(unsigned int)>([this](unsigned int i) { return model.point_damage(i); }) :
+          compute.variable == "Bond stretch" ? std::function<double(unsigned int)>([this](unsigned int i) { return model.point_stretch(i); }) :
+          compute.variable[0] == 'D' ?
+            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
+              return state.displacement.local_element(dim * i + compute.component);
+            }) :
+          compute.variable == "Kinetic energy" ?
+            std::function<double(unsigned int)>([this](unsigned int i) {
+              const double *v = state.velocity.begin() + dim * i;
+              return 0.5 * state.mass_density[i] * cloud.volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            }) :
+          compute.variable[0] == 'P' ?
+            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
+              return cloud.X[dim * i + compute.component];
+            }) :
+            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
+              return cloud.volume[i] * state.force.local_element(dim * i + compute.component);
+            });
+        std::function<double(unsigned int)> node_value, node_volume;
+        if (has_continuum)
+          {
+            const auto local = [this](unsigned int k) { return continuum->nodes[k].local; };
+            node_volume = [this, local](unsigned int k) { return continuum->mass.local_element(local(k)) / coupling->node_density[k]; };
+            const char v = compute.variable[0];
+            node_value =
+              compute.variable == "Kinetic energy" ?
+                std::function<double(unsigned int)>([this, local](unsigned int k) {
+                  const double vk = continuum->V.local_element(local(k));
+                  return 0.5 * continuum->mass.local_element(local(k)) * vk * vk;
+                }) :
+              v == 'D' ? std::function<double(unsigned int)>([this, local](unsigned int k) { return continuum->U.local_element(local(k)); }) :
+              v == 'P' ? std::function<double(unsigned int)>([this](unsigned int k) { return continuum->nodes[k].x[continuum->nodes[k].component]; }) :
+              v == 'F' ? std::function<double(unsigned int)>([this, local](unsigned int k) { return continuum->F.local_element(local(k)); }) :
+                         std::function<double(unsigned int)>();
+          }
+        if (compute.reference)
+          {
+            const Expression &ref = *compute.reference;
+            row.emplace_back(compute.name,
+                             compute.evaluate([&](unsigned int i) { return std::abs(value(i) - ref.value(cloud.position(i), time)); },
+                                              cloud.volume, comm,
+                                              node_value ? std::function<double(unsigned int)>([&](unsigned int k) {
+                                                return std::abs(node_value(k) - ref.value(continuum->nodes[k].x, time));
+                                              }) :
+                                                           std::function<double(unsigned int)>(),
+                                              node_volume));
+          }
+        else
+          row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm, node_value, node_volume));
+      }
+    {
+      // A Reference that is NaN somewhere would write nan in every row.
+      std::vector<const Expression *> references;
+      for (const auto &compute : computes)
+        references.push_back(compute.reference.get());
+      check_finite(references, comm);
+    }
+    deck.integrator->add_globals(row);
+    return row;
+  }
+
+  void
+  Postprocess::write_output(const unsigned int step, const double time, const bool globals, const bool field_files)
+  {
+    TimerOutput::Scope t(timer, "output");
+    // The CSV row goes to disk after the step's .pvtu and .pvd: a run killed
+    // in between leaves a CSV that does not run ahead of the field series.
+    std::vector<std::pair<std::string, double>> row;
+    if (globals)
+      row = global_quantities(step, time);
+    if (!field_files)
+      {
+        if (globals)
+          output.write_globals(row, comm);
+        return;
+      }
+
+    const unsigned int n             = cloud.n_owned();
+    std::vector<std::unique_ptr<Vector<double>>> cell_storage;
+    std::vector<OutputWriter::CellField>         cell_fields;
+    auto cell_field = [&](const std::string &name, const std::function<double(unsigned int)> &value) {
+      if (!output.wants(name))
+        return;
+      cell_storage.push_back(std::make_unique<Vector<double>>(discretization.triangulation.n_active_cells()));
+      for (unsigned int i = 0; i < n; ++i)
+        if (!discretization.is_virtual(i))
+          (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = value(i);
+      cell_fields.emplace_back(name, cell_storage.back().get());
+    };
+    cell_field("Damage", [&](unsigned int i) { return model.point_damage(i); });
+    auto field_or_zero = [&](const std::string &field) {
+      const VectorType *values = model.field(field);
+      return [values](unsigned int i) { return values ? values->local_element(i) : 0.0; };
+    };
+    cell_field("Dilatation", field_or_zero("dilatation"));
+    cell_field("Weighted volume", field_or_zero("weighted_volume"));
+    cell_field("Number of neighbors", [&](unsigned int i) { return double(bonds.offsets[i + 1] - bonds.offsets[i]); });
+    cell_field("Block", [&](unsigned int i) { return double(cloud.block[i]); });
+    if (has_continuum && output.wants("Block"))
+      for (unsigned int i = 0; i < n; ++i)
+        if (discretization.is_virtual(i))
+          (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = cloud.block[i];
+    const double rank = Utilities::MPI::this_mpi_process(comm);
+    cell_field("Rank", [&](unsigned int) { return rank; });
+
+    std::vector<std::unique_ptr<VectorType>> vector_storage;
+    std::vector<OutputWriter::VectorField>   vector_fields;
+    std::vector<types::global_dof_index>     dofs(dim);
+    // On FE cells the nodal values (@p fe_value of a node), with the ghosts
+    // the FE cells' output needs.
+    IndexSet relevant;
+    if (has_continuum)
+      DoFTools::extract_locally_relevant_dofs(discretization.dof_handler, relevant);
+    auto vector_field = [&](const std::string                                 &name,
+                            const std::function<double(unsigned int)>         &value,
+                            const std::function<double(unsigned int)>         &fe_value) {
+      if (!output.wants(name))
+        return;
+      vector_storage.push_back(has_continuum ?
+                                 std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), relevant, comm) :
+                                 std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), comm));
+      VectorType &out = *vector_storage.back();
+      for (unsigned int i = 0; i < n; ++i)
+        if (!discretization.is_virtual(i))
+          {
+            cloud.cell[i]->get_dof_indices(dofs);
+            for (unsigned int d = 0; d < dim; ++d)
+              out(dofs[d]) = value(dim * i + d);
+          }
+      if (has_continuum)
+        {
+          for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+            out.local_element(continuum->nodes[k].local) = fe_value(k);
+          continuum->hanging.distribute(out);
+          out.update_ghost_values();
+        }
+      vector_fields.emplace_back(name, &out);
+    };
+    // FE nodes: the force density and acceleration of the lumped system.
+    const auto node_acceleration = [&](unsigned int k) {
+      const unsigned int l = continuum->nodes[k].local;
+      return continuum->mass.local_element(l) > 0 ? continuum->F.local_element(l) / continuum->mass.local_element(l) : 0.0;
+    };
+    vector_field("Displacement", [&](unsigned int k) { return state.displacement.local_element(k); },
+                 [&](unsigned int k) { return continuum->U.local_element(continuum->nodes[k].local); });
+    vector_field("Velocity", [&](unsigned int k) { return state.velocity.local_element(k); },
+                 [&](unsigned int k) { return continuum->V.local_element(continuum->nodes[k].local); });
+    vector_field("Force density", [&](unsigned int k) { return state.force.local_element(k); },
+                 [&](unsigned int k) { return coupling->node_density[k] * node_acceleration(k); });
+    vector_field("Acceleration", [&](unsigned int k) { return state.force.local_element(k) / state.mass_density[k / dim]; },
+                 node_acceleration);
+
+    output.write_fields(discretization.dof_handler, cell_fields, vector_fields, step, time, comm);
+    if (globals)
+      output.write_globals(row, comm);
+  }
+
+  void
+  Postprocess::print_setup_report()
+  {
+    const double bonds_global = Utilities::MPI::sum(double(bonds.n_bonds()), comm);
+    std::size_t  min_family = std::numeric_limits<std::size_t>::max(), max_family = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        const std::size_t s = bonds.offsets[i + 1] - bonds.offsets[i];
+        min_family          = std::min(min_family, s);
+        max_family          = std::max(max_family, s);
+      }
+    min_family = Utilities::MPI::min(min_family, comm);
+    max_family = Utilities::MPI::max(max_family, comm);
+    const double ghosts = Utilities::MPI::sum(double(cloud.n_local() - cloud.n_owned()), comm);
+
+    // What this run holds, by part (all ranks).
+    const double bond_bytes = bonds.neighbor.capacity() * sizeof(unsigned int) +
+                              bonds.offsets.capacity() * sizeof(std::size_t) + model.broken.capacity() +
+                              bonds.volume_fraction.capacity() * sizeof(float);
+    const double point_bytes =
+      cloud.X.capacity() * sizeof(double) + cloud.volume.capacity() * sizeof(double) +
+      cloud.block.capacity() * sizeof(unsigned short) + cloud.key.capacity() * sizeof(PointKey) +
+      cloud.gid.capacity() * sizeof(types::global_dof_index) + cloud.cell.capacity() * sizeof(CellIterator) +
+      state.displacement.memory_consumption() + state.velocity.memory_consumption() + state.force.memory_consumption() +
+      model.field_memory() + state.mass_density.capacity() * sizeof(double);
+    const double mesh_bytes = discretization.triangulation.memory_consumption() + discretization.dof_handler.memory_consumption();
+    const double sum_bond   = Utilities::MPI::sum(bond_bytes, comm);
+    const double sum_point  = Utilities::MPI::sum(point_bytes, comm);
+    const double sum_mesh   = Utilities::MPI::sum(mesh_bytes, comm);
+
+    pcout << "PeriDeal set-up on " << Utilities::MPI::n_mpi_processes(comm) << " rank(s)\n"
+          << "  points:            " << cloud.n_global() << " (nonlocal ghosts: " << ghosts << ")\n"
+          << "  bonds:             " << std::setprecision(12) << bonds_global
+          << (cloud.n_global() == 0 ? std::string(" (no points)") :
+                                      " (directed; family size " + std::to_string(min_family) + " to " +
+                                        std::to_string(max_family) + ")")
+          << "\n";
+    if (cloud.periodicity.any())
+      {
+        pcout << "  periodic:         ";
+        for (unsigned int d = 0; d < dim; ++d)
+          if (cloud.periodicity.length[d] > 0)
+            pcout << " " << "xyz"[d] << " (period " << cloud.periodicity.length[d] << ")";
+        pcout << "\n";
+      }
+    for (unsigned int f = 0; f < deck.bond_filters.size(); ++f)
+      pcout << "  bond filter '" << deck.bond_filters[f].name << "': " << discretization.filtered_bonds[f] << " directed bonds cut"
+            << (discretization.filtered_bonds[f] == 0 ? " (none: check its corner, vectors and lengths; the side runs along "
+                                         "Normal x Bottom unit vector)" :
+                                         "")
+            << "\n";
+    if (Utilities::MPI::n_mpi_processes(comm) > 1)
+      {
+        // The bond loops dominate a step: bonds per rank is the load balance.
+        const auto minmax = Utilities::MPI::min_max_avg(double(bonds.n_bonds()), comm);
+        pcout << "  bonds per rank:    " << std::setprecision(12) << minmax.min << " to " << minmax.max
+              << " (the largest " << sci(100 * (minmax.max / minmax.avg - 1), 3) << "% above the mean";
+        if (discretization.unbalanced_bonds > 0)
+          pcout << "; " << sci(discretization.unbalanced_bonds, 3) << "% with equal cells per rank: repartitioned by bonds";
+        pcout << ")\n";
+      }
+    for (const auto &b : deck.blocks)
+      if (b.continuum)
+        pcout << "  block '" << b.name << "': continuum FE_Q(" << b.fe_degree << "), material '" << b.material_name
+              << "' (E " << sci(b.elasticity->young_modulus()) << ", nu " << sci(b.elasticity->poisson_ratio(), 4)
+              << "), " << Utilities::MPI::sum(b.points.size(), comm) << " virtual points\n";
+      else
+        pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
+              << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)
+              << (b.damage ? ", damage: " + b.damage->describe() : std::string(", no damage")) << "\n";
+    if (has_continuum)
+      pcout << "  finite elements:   " << continuum->n_global_dofs << " DoFs (hanging-node constraints "
+            << Utilities::MPI::sum(continuum->hanging.n_constraints(), comm) << "), blending band "
+            << sci(deck.coupling.blending_width, 3) << " horizons, virtual point levels "
+            << (deck.coupling.virtual_point_levels < 0 ? std::string("auto") : std::to_string(deck.coupling.virtual_point_levels)) << "\n";
+    for (const auto &bc : conditions.conditions)
+      {
+        // Collective on every rank.
+        const auto nodes = Utilities::MPI::sum(bc.nodes.size(), comm), faces = Utilities::MPI::sum(bc.faces.size(), comm);
+        const auto points = Utilities::MPI::sum(bc.points.size(), comm);
+        pcout << "  condition '" << bc.name << "': "
+              << (bc.type == BoundaryCondition::Type::traction ?
+                    std::to_string(faces) + " boundary faces" :
+                    std::to_string(points) + " points" +
+                      (has_continuum ? ", " + std::to_string(nodes) + " FE DoFs" : std::string()))
+              << (bc.boundary_id >= 0 && bc.type == BoundaryCondition::Type::traction ?
+                    " (boundary id " + std::to_string(bc.boundary_id) + ")\n" :
+                    " (region '" + bc.region + "')\n");
+      }
+    pcout << "  memory estimate:   bonds " << mib(sum_bond) << ", point fields " << mib(sum_point)
+          << ", mesh and DoFs " << mib(sum_mesh) << "; total " << mib(sum_bond + sum_point + sum_mesh)
+          << " (" << sci((sum_bond + sum_point + sum_mesh) / std::max(1.0, bonds_global), 3)
+          << " bytes per bond)\n";
+    deck.integrator->report_setup();
+    for (const auto &w : record.warnings)
+      pcout << "Warning: " << w << "\n";
+    pcout << std::flush;
+  }
+
+  void
+  Postprocess::print_summary(const double loop_seconds, const unsigned int steps_done)
+  {
+    const double bonds_global = Utilities::MPI::sum(double(bonds.n_bonds()), comm);
+    const double peak_sum     = peak_memory_bytes_sum(comm);
+    const double peak_max     = Utilities::MPI::max(peak_memory_bytes(), comm);
+    const double startup_sum  = Utilities::MPI::sum(record.startup_memory, comm);
+    const double startup_max  = Utilities::MPI::max(record.startup_memory, comm);
+    const unsigned int ranks  = Utilities::MPI::n_mpi_processes(comm);
+    const double e_ref        = std::abs(record.initial_energy) + std::abs(record.external_work);
+
+    pcout << "\nPeriDeal summary\n"
+          << "  points:                 " << cloud.n_global() << "\n"
+          << "  bonds:                  " << std::setprecision(12) << bonds_global << " (directed)\n"
+          << "  steps:                  " << steps_done << "\n"
+          << "  wall time:              " << format_seconds(record.setup_seconds + loop_seconds)
+          << " (set-up " << format_seconds(record.setup_seconds) << ", " << deck.integrator->loop_name() << " "
+          << format_seconds(loop_seconds) << ")\n";
+    deck.integrator->report_summary_speed(loop_seconds, steps_done);
+    pcout << "  peak memory:            " << mib(peak_sum) << " over all ranks (largest rank " << mib(peak_max)
+          << "); " << sci(peak_sum / std::max(1.0, bonds_global), 3) << " bytes per bond, "
+          << sci(peak_sum / std::max<double>(1, cloud.n_global()), 4) << " bytes per point\n";
+    pcout << "  scene memory:           " << mib(peak_sum - startup_sum)
+          << " over all ranks: peak minus the start-up footprint (libraries; " << mib(startup_max)
+          << " per rank); " << sci((peak_sum - startup_sum) / std::max(1.0, bonds_global), 3)
+          << " bytes per bond\n";
+    deck.integrator->report_summary_step();
+    const bool dissipation = deck.solver.track_dissipation && !model.broken.empty();
+    if (dissipation)
+      pcout << "  dissipated energy:      " << sci(record.dissipated_energy, 6)
+            << " (released by broken bonds: their strain energy where they broke)\n";
+    if (e_ref > 0)
+      pcout << "  energy balance error:   "
+            << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy - record.initial_energy - record.external_work) /
+                     e_ref,
+                   3)
+            << (dissipation ? " (kinetic + strain + dissipated - initial - external work, relative)\n" :
+                              " (kinetic + strain - initial - external work, relative)\n");
+    pcout << "  warnings:               " << (record.warnings.empty() ? std::string("none") : std::to_string(record.warnings.size()))
+          << "\n";
+    for (const auto &w : record.warnings)
+      pcout << "Warning: " << w << "\n";
+    pcout << std::flush;
+    timer.print_summary();
+    // Where ranks wait for each other: the spread of every section over ranks.
+    if (ranks > 1)
+      timer.print_wall_time_statistics(comm);
+  }
+} // namespace perideal

@@ -1,0 +1,433 @@
+// The parameter file: declared from the registries, read in three passes
+// (base/input.h), parsed into a Deck.
+
+#include <perideal/simulation/deck.h>
+#include <perideal/solver/time_integrator.h>
+
+#include <deal.II/base/utilities.h>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  Deck::Deck()  = default;
+  Deck::~Deck() = default;
+
+  // ---------------------------------------------------------------- parameters
+
+  void
+  declare_parameters(ParameterHandler &prm, const DeckNames &names)
+  {
+    prm.enter_subsection("Discretization");
+    Scene::declare_parameters(prm);
+    declare_named_section(prm, "Regions", "regions (Peridigm's node sets); 'All' is always defined", names.regions,
+                          [&](const std::string &) { Region::declare_parameters(prm); });
+    declare_named_section(prm, "Bond filters", "bond filters: planes no bond crosses (pre-cracks, notches)",
+                          names.bond_filters, [&](const std::string &) { BondFilter::declare_parameters(prm); });
+    prm.leave_subsection();
+
+    prm.enter_subsection("Materials");
+    declare_names_entry(prm, "materials");
+    for (const auto &[name, model] : names.materials)
+      {
+        prm.enter_subsection(name);
+        declare_material_model_entry(prm);
+        if (!model.empty())
+          Registry<Material>::instance().get(model, "Materials/" + name + "/Model").declare(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Damage models");
+    declare_names_entry(prm, "damage models");
+    for (const auto &[name, model] : names.damage_models)
+      {
+        prm.enter_subsection(name);
+        declare_damage_model_entry(prm);
+        if (!model.empty())
+          Registry<DamageModel>::instance().get(model, "Damage models/" + name + "/Model").declare(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Blocks");
+    declare_names_entry(prm, "blocks; a cell belongs to the first block that claims it");
+    for (const auto &name : names.blocks)
+      {
+        prm.enter_subsection(name);
+        prm.declare_entry("Material", "", Patterns::Anything(), "Name of a material of Materials/Names.");
+        prm.declare_entry("Damage model", "", Patterns::Anything(), "Name of a damage model of Damage models/Names; empty: no damage.");
+        prm.declare_entry("Material ids", "0", Patterns::List(Patterns::Integer(0)), "The cells of the mesh with these material ids (Gmsh volume physical groups) form the block.");
+        prm.declare_entry("Region", "", Patterns::Anything(), "If set, the cells whose centroid lies in this region form the block instead.");
+        prm.declare_entry("Horizon", "0", Patterns::Double(0), "The block's horizon; 0: Discretization/Horizon.");
+        prm.declare_entry("Type", "Peridynamic", Patterns::Selection("Peridynamic|Continuum"),
+                          "Peridynamic: one PD point per cell. Continuum: FE_Q(FE degree) linear elasticity "
+                          "with the material's bulk modulus, shear modulus and density; peridynamic families "
+                          "reach into its cells through virtual points (doc/coupling.md). Continuum blocks "
+                          "take no damage model.");
+        prm.declare_entry("FE degree", "1", Patterns::Integer(1, 2), "Polynomial degree of a continuum block's FE_Q elements.");
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Coupling");
+    prm.declare_entry("Blending width", "1", Patterns::Double(0),
+                      "Width of the band inside continuum blocks, in horizons, over which the energy "
+                      "passes from peridynamic to finite element (the PD weight falls linearly from 1 at "
+                      "the PD cells to 0); 0: a step at the interface. Wider bands give smaller ghost "
+                      "forces (doc/coupling.md) and cost more virtual points.");
+    prm.declare_entry("Virtual point levels", "auto", Patterns::Selection("auto|0|1|2|3"),
+                      "Virtual points per continuum cell within reach of the PD points: the centroids of "
+                      "its descendants this many refinements down (8^levels per cell). auto: per cell, the "
+                      "levels that bring their spacing closest to that of the nearest PD point (0 for FE "
+                      "cells of the PD spacing, 1 for cells twice as large).");
+    prm.leave_subsection();
+
+    declare_named_section(prm, "Boundary conditions", "initial and boundary conditions", names.conditions,
+                          [&](const std::string &) { BoundaryCondition::declare_parameters(prm); });
+    declare_named_section(prm, "Computes",
+                          "computes: global quantities over regions, extra columns of the globals CSV",
+                          names.computes, [&](const std::string &) { RegionCompute::declare_parameters(prm); });
+
+    prm.enter_subsection("Solver");
+    {
+      std::string doc = "The time integrator, one of:";
+      for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
+        doc += " " + name + ": " + entry.documentation;
+      prm.declare_entry("Type", "Verlet", Registry<TimeIntegrator>::instance().selection(), doc);
+    }
+    prm.declare_entry("Initial time", "0", Patterns::Double(), "Start time.");
+    prm.declare_entry("Final time", "0", Patterns::Double(), "End time. The number of steps is ceil((final - initial)/dt), and dt is then shortened to land on the final time exactly (Verlet steps shortened for fast points, see Verlet/Fixed dt, add steps).");
+    prm.declare_entry("Number of steps", "0", Patterns::Integer(0), "If positive: run exactly this many steps of dt and ignore Final time.");
+    prm.declare_entry("Energy growth limit", "10", Patterns::Double(1),
+                      "Stop when the kinetic energy exceeds this factor times (initial kinetic + "
+                      "strain energy + work of external forces): the run is unstable.");
+    prm.declare_entry("Track dissipated energy", "false", Patterns::Bool(),
+                      "With a damage model: sum the strain energy that breaking bonds release (their "
+                      "energy at the state where they broke, with them intact minus without) and add it "
+                      "to the closing summary's energy balance, which then checks that the run makes no "
+                      "energy. Costs two more force evaluations in every step or damage solve that breaks "
+                      "bonds (doc/examples/fragmenting_cylinder_reduced: time loop 23 s instead of 8.7 s).");
+    prm.enter_subsection("Implicit");
+    ImplicitParameters::declare_parameters(prm);
+    prm.leave_subsection();
+    // Each integrator's own keys (Verlet: subsection Verlet).
+    for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
+      entry.declare(prm);
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    OutputWriter::declare_parameters(prm);
+    prm.leave_subsection();
+  }
+
+  void
+  print_parameter_reference(std::ostream &out, const bool markdown)
+  {
+    DeckNames names;
+    names.regions       = {"My region"};
+    names.blocks        = {"My block"};
+    names.conditions    = {"My condition"};
+    names.computes      = {"My compute"};
+    names.bond_filters  = {"My filter"};
+    for (const auto &m : Registry<Material>::instance().all())
+      names.materials["My " + m.first + " material"] = m.first;
+    for (const auto &m : Registry<DamageModel>::instance().all())
+      names.damage_models["My " + m.first + " model"] = m.first;
+    ParameterHandler prm;
+    declare_parameters(prm, names);
+    auto set_names = [&](const std::vector<std::string> &path, const std::string &list) {
+      for (const auto &p : path)
+        prm.enter_subsection(p);
+      prm.set("Names", list);
+      for (unsigned int i = 0; i < path.size(); ++i)
+        prm.leave_subsection();
+    };
+    auto join = [](const auto &map) {
+      std::string s;
+      for (const auto &e : map)
+        s += (s.empty() ? "" : ", ") + e.first;
+      return s;
+    };
+    set_names({"Discretization", "Regions"}, "My region");
+    set_names({"Discretization", "Bond filters"}, "My filter");
+    set_names({"Materials"}, join(names.materials));
+    set_names({"Damage models"}, join(names.damage_models));
+    set_names({"Blocks"}, "My block");
+    set_names({"Boundary conditions"}, "My condition");
+    for (const auto &[name, model] : names.materials)
+      {
+        prm.enter_subsection("Materials");
+        prm.enter_subsection(name);
+        prm.set("Model", model);
+        prm.leave_subsection();
+        prm.leave_subsection();
+      }
+    for (const auto &[name, model] : names.damage_models)
+      {
+        prm.enter_subsection("Damage models");
+        prm.enter_subsection(name);
+        prm.set("Model", model);
+        prm.leave_subsection();
+        prm.leave_subsection();
+      }
+
+    if (markdown)
+      {
+        out << "# Parameter reference\n\n"
+            << "Generated by `pd_app --print-parameters-markdown` at build time; do not edit.\n\n"
+            << "A parameter file is a deal.II ParameterHandler file. Sections that hold\n"
+            << "user-named entries (regions, materials, damage models, blocks, boundary\n"
+            << "conditions) list the names in `Names`; each name then has a subsection.\n"
+            << "A material or damage model subsection holds `Model` and that model's keys.\n"
+            << "Below, every model appears once under an example name.\n\n"
+            << "Models: materials " << Registry<Material>::instance().names(", ")
+            << "; damage models " << Registry<DamageModel>::instance().names(", ")
+            << "; time integrators (Solver/Type) " << Registry<TimeIntegrator>::instance().names(", ") << ".\n\n";
+        for (const auto &m : Registry<Material>::instance().all())
+          out << "- material `" << m.first << "`: " << m.second.documentation << "\n";
+        for (const auto &m : Registry<DamageModel>::instance().all())
+          out << "- damage model `" << m.first << "`: " << m.second.documentation << "\n";
+        out << "\n```\n";
+      }
+    prm.print_parameters(out, ParameterHandler::PRM);
+    if (markdown)
+      out << "```\n";
+  }
+
+  void
+  read_deck(const std::string &file, Deck &deck)
+  {
+    DeckNames names;
+    auto      read_list = [&](ParameterHandler &prm, const std::vector<std::string> &path) {
+      for (const auto &p : path)
+        prm.enter_subsection(p);
+      std::string where;
+      for (const auto &p : path)
+        where += p + "/";
+      auto list = split_names(prm.get("Names"), where + "Names");
+      for (unsigned int i = 0; i < path.size(); ++i)
+        prm.leave_subsection();
+      return list;
+    };
+    // Pass 1: the names.
+    {
+      ParameterHandler prm;
+      declare_parameters(prm, names);
+      parse_input_file(prm, file, false);
+      names.regions    = read_list(prm, {"Discretization", "Regions"});
+      names.bond_filters = read_list(prm, {"Discretization", "Bond filters"});
+      names.blocks     = read_list(prm, {"Blocks"});
+      names.conditions = read_list(prm, {"Boundary conditions"});
+      names.computes   = read_list(prm, {"Computes"});
+      for (const auto &n : read_list(prm, {"Materials"}))
+        names.materials[n] = "";
+      for (const auto &n : read_list(prm, {"Damage models"}))
+        names.damage_models[n] = "";
+      for (const auto &r : names.regions)
+        AssertThrow(r != "All", ExcMessage("Discretization/Regions/Names: 'All' is predefined; choose another name"));
+    }
+    // Pass 2: the model of each material and damage model.
+    {
+      ParameterHandler prm;
+      declare_parameters(prm, names);
+      parse_input_file(prm, file, false);
+      for (auto &[section, map] : std::vector<std::pair<std::string, std::map<std::string, std::string> *>>{
+             {"Materials", &names.materials}, {"Damage models", &names.damage_models}})
+        {
+          prm.enter_subsection(section);
+          for (auto &entry : *map)
+            {
+              prm.enter_subsection(entry.first);
+              entry.second = Utilities::trim(prm.get("Model"));
+              AssertThrow(!entry.second.empty(),
+                          ExcMessage(section + "/" + entry.first + "/Model is not set"));
+              prm.leave_subsection();
+            }
+          prm.leave_subsection();
+        }
+      for (const auto &[name, model] : names.materials)
+        Registry<Material>::instance().get(model, "Materials/" + name + "/Model");
+      for (const auto &[name, model] : names.damage_models)
+        Registry<DamageModel>::instance().get(model, "Damage models/" + name + "/Model");
+    }
+    // Pass 3: everything, strictly.
+    ParameterHandler prm;
+    declare_parameters(prm, names);
+    parse_input_file(prm, file, true);
+
+    prm.enter_subsection("Discretization");
+    deck.scene.parse_parameters(prm);
+    prm.enter_subsection("Regions");
+    for (const auto &name : names.regions)
+      {
+        prm.enter_subsection(name);
+        auto region  = std::make_unique<Region>();
+        region->name = name;
+        region->parse_parameters(prm, "Discretization/Regions/" + name);
+        deck.regions[name] = std::move(region);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+    prm.enter_subsection("Bond filters");
+    for (const auto &name : names.bond_filters)
+      {
+        prm.enter_subsection(name);
+        deck.bond_filters.emplace_back();
+        deck.bond_filters.back().name = name;
+        deck.bond_filters.back().parse_parameters(prm, "Discretization/Bond filters/" + name);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+    prm.leave_subsection();
+
+    AssertThrow(!names.blocks.empty(),
+                ExcMessage("Blocks/Names is empty: define at least one block"));
+    prm.enter_subsection("Blocks");
+    for (const auto &name : names.blocks)
+      {
+        const std::string path = "Blocks/" + name;
+        prm.enter_subsection(name);
+        Block block;
+        block.name          = name;
+        block.material_name = Utilities::trim(prm.get("Material"));
+        block.damage_name   = Utilities::trim(prm.get("Damage model"));
+        block.region        = Utilities::trim(prm.get("Region"));
+        block.horizon       = prm.get_double("Horizon");
+        block.continuum     = prm.get("Type") == "Continuum";
+        block.fe_degree     = prm.get_integer("FE degree");
+        for (const int id : Utilities::string_to_int(Utilities::split_string_list(prm.get("Material ids"), ',')))
+          block.material_ids.push_back(id);
+        prm.leave_subsection();
+
+        AssertThrow(!block.material_name.empty(), ExcMessage(path + "/Material is not set"));
+        AssertThrow(names.materials.count(block.material_name),
+                    ExcMessage(path + "/Material: '" + block.material_name +
+                               "' is not defined in Materials/Names"));
+        AssertThrow(block.damage_name.empty() || names.damage_models.count(block.damage_name),
+                    ExcMessage(path + "/Damage model: '" + block.damage_name +
+                               "' is not defined in Damage models/Names"));
+        AssertThrow(!block.continuum || block.damage_name.empty(),
+                    ExcMessage(path + "/Damage model: a continuum block does not break; remove the damage "
+                                      "model or make the block Peridynamic"));
+        AssertThrow(block.region.empty() || block.region == "All" || deck.regions.count(block.region),
+                    ExcMessage(path + "/Region: '" + block.region +
+                               "' is not defined in Discretization/Regions/Names"));
+        if (block.horizon == 0)
+          block.horizon = deck.scene.horizon;
+        AssertThrow(block.horizon > 0,
+                    ExcMessage(path + "/Horizon and Discretization/Horizon are both 0: "
+                                      "set a positive horizon"));
+        deck.blocks.push_back(std::move(block));
+      }
+    prm.leave_subsection();
+
+    // One material (and damage model) instance per block: the horizon differs.
+    for (auto &block : deck.blocks)
+      {
+        const std::string model = names.materials.at(block.material_name);
+        prm.enter_subsection("Materials");
+        prm.enter_subsection(block.material_name);
+        block.material = Registry<Material>::instance().get(model, "").create();
+        block.material->parse_parameters(prm, "Materials/" + block.material_name);
+        prm.leave_subsection();
+        prm.leave_subsection();
+        if (!block.damage_name.empty())
+          {
+            prm.enter_subsection("Damage models");
+            prm.enter_subsection(block.damage_name);
+            block.damage = Registry<DamageModel>::instance()
+                             .get(names.damage_models.at(block.damage_name), "")
+                             .create();
+            block.damage->parse_parameters(prm, "Damage models/" + block.damage_name);
+            prm.leave_subsection();
+            prm.leave_subsection();
+          }
+      }
+    for (auto &block : deck.blocks)
+      if (block.continuum)
+        {
+          deck.has_continuum = true;
+          block.elasticity = std::make_unique<LinearElasticity>(block.material->bulk_modulus(),
+                                                                block.material->shear_modulus(),
+                                                                block.material->density());
+        }
+    // Materials declared but not used are still parsed, so their errors show.
+    prm.enter_subsection("Materials");
+    for (const auto &[name, model] : names.materials)
+      {
+        prm.enter_subsection(name);
+        Registry<Material>::instance().get(model, "").create()->parse_parameters(prm, "Materials/" + name);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    const auto require_region = [&](const std::string &path, const std::string &region) {
+      AssertThrow(region == "All" || deck.regions.count(region),
+                  ExcMessage(path + "/Region: '" + region + "' is not defined in Discretization/Regions/Names"));
+    };
+    prm.enter_subsection("Coupling");
+    deck.coupling.blending_width       = prm.get_double("Blending width");
+    const std::string levels           = prm.get("Virtual point levels");
+    deck.coupling.virtual_point_levels = levels == "auto" ? -1 : std::stoi(levels);
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary conditions");
+    for (const auto &name : names.conditions)
+      {
+        const std::string path = "Boundary conditions/" + name;
+        prm.enter_subsection(name);
+        BoundaryCondition bc;
+        bc.name = name;
+        bc.parse_parameters(prm, path);
+        require_region(path, bc.region);
+        deck.conditions.push_back(std::move(bc));
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Computes");
+    for (const auto &name : names.computes)
+      {
+        const std::string path = "Computes/" + name;
+        prm.enter_subsection(name);
+        RegionCompute compute;
+        compute.name = name;
+        compute.parse_parameters(prm, path);
+        require_region(path, compute.region);
+        deck.computes.push_back(std::move(compute));
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Solver");
+    SolverParameters &solver = deck.solver;
+    solver.type              = prm.get("Type");
+    prm.enter_subsection("Implicit");
+    solver.implicit.parse_parameters(prm);
+    prm.leave_subsection();
+    solver.initial_time        = prm.get_double("Initial time");
+    solver.final_time          = prm.get_double("Final time");
+    solver.requested_steps     = prm.get_integer("Number of steps");
+    solver.energy_growth_limit = prm.get_double("Energy growth limit");
+    solver.track_dissipation   = prm.get_bool("Track dissipated energy");
+    // Every registered integrator parses its own keys, so that their errors
+    // show whichever runs; the chosen one checks them against the rest.
+    for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
+      {
+        auto integrator = entry.create();
+        integrator->parse_parameters(prm);
+        if (name == solver.type)
+          deck.integrator = std::move(integrator);
+      }
+    prm.leave_subsection();
+    deck.integrator->check_parameters(solver, deck.has_continuum);
+    AssertThrow(solver.requested_steps > 0 || solver.final_time > solver.initial_time,
+                ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
+                           "Solver/Number of steps)"));
+
+    prm.enter_subsection("Output");
+    deck.output.parse_parameters(prm);
+    prm.leave_subsection();
+  }
+} // namespace perideal

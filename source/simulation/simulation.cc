@@ -1,0 +1,91 @@
+// The simulation: owns the parts, sets them up in order and hands the run to
+// the time integrator of Solver/Type.
+
+#include <perideal/base/format.h>
+#include <perideal/base/memory.h>
+#include <perideal/conditions/condition_set.h>
+#include <perideal/continuum/coupling.h>
+#include <perideal/discretization/discretization.h>
+#include <perideal/model/force_model.h>
+#include <perideal/output/postprocess.h>
+#include <perideal/simulation/simulation.h>
+#include <perideal/solver/time_integrator.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  Simulation::Simulation(const std::string &parameter_file, const MPI_Comm comm)
+    : comm(comm)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(comm) == 0)
+    , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
+  {
+    // The libraries are loaded and initialised by now: what the scene adds
+    // to this is its own memory.
+    record.startup_memory = resident_memory_bytes();
+    read_deck(parameter_file, deck);
+  }
+
+  Simulation::~Simulation() = default;
+
+  SimulatorAccess
+  Simulation::access()
+  {
+    return SimulatorAccess{comm, pcout, timer, deck, *discretization, *model, coupling.get(), *conditions, *post, state, record};
+  }
+
+  void
+  Simulation::setup(const bool dry_run_mode)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    discretization   = std::make_unique<Discretization>(deck, comm, pcout, timer, dry_run_mode);
+    discretization->setup();
+    model = std::make_unique<ForceModel>(*discretization, state, record, comm, timer);
+    model->setup();
+    if (deck.has_continuum)
+      {
+        TimerOutput::Scope t(timer, "setup: continuum");
+        coupling = std::make_unique<Coupling>();
+        coupling->setup(*discretization, comm);
+      }
+    conditions = std::make_unique<ConditionSet>(deck.conditions, *discretization, state, record, comm);
+    conditions->setup(coupling.get());
+    post = std::make_unique<Postprocess>(deck, *discretization, *model, *conditions, state, record, comm, pcout, timer);
+    post->setup(coupling.get());
+    conditions->setup_constraints();
+    model->attach(conditions->body_force, coupling.get());
+
+    record.dt_stable = model->stable_time_step();
+    deck.integrator->initialize(access());
+    deck.integrator->setup();
+    record.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void
+  Simulation::dry_run()
+  {
+    setup(true);
+    access().stop_if_interrupted_in_setup();
+    post->print_setup_report();
+    const AvailableMemory available = available_memory(comm);
+    if (std::isfinite(available.bytes_per_rank))
+      pcout << "  memory available:  " << mib(available.bytes_per_rank) << " per rank (" << available.limited_by
+            << ")\n";
+    deck.integrator->dry_run();
+    pcout << "Dry run: set-up done, no time step taken." << std::endl;
+  }
+
+  void
+  Simulation::run()
+  {
+    setup(false);
+    access().stop_if_interrupted_in_setup();
+    post->print_setup_report();
+    deck.integrator->run();
+  }
+} // namespace perideal

@@ -1,0 +1,505 @@
+// Newton's method for one implicit step (implicit_solver.h): set-up of the
+// tangent and the prescribed DoFs, the residual, the tangent's assembly, the
+// solve with its line search and the re-solves while bonds break, the load
+// path's work; and what QuasiStatic and Newmark share (ImplicitIntegrator).
+
+#include <perideal/base/format.h>
+#include <perideal/continuum/coupling.h>
+#include <perideal/model/force_model.h>
+#include <perideal/output/postprocess.h>
+#include <perideal/simulation/deck.h>
+#include <perideal/solver/implicit_solver.h>
+#include <perideal/solver/rigid_modes.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  ImplicitSolver::ImplicitSolver(const SimulatorAccess &access, const ImplicitParameters &parameters)
+    : access(access)
+    , implicit(parameters)
+    , comm(access.comm)
+    , pcout(access.pcout)
+    , timer(access.timer)
+    , cloud(access.discretization.cloud)
+    , state(access.state)
+    , continuum(access.coupling ? &access.coupling->continuum : nullptr)
+    , has_continuum(access.coupling != nullptr)
+  {}
+
+  void
+  ImplicitSolver::setup(const bool need_supports)
+  {
+    unsigned int hops = 1;
+    for (const auto &b : access.model.blocks)
+      hops = std::max(hops, b.material->coupling_hops());
+
+    // The 2-hop tangent assumes j in F(i) exactly when i in F(j).
+    if (hops == 2)
+      {
+        unsigned int asymmetric = 0;
+        for (unsigned int i = 0; i < cloud.n_owned() && !asymmetric; ++i)
+          for (std::size_t b = access.discretization.bonds.offsets[i]; b < access.discretization.bonds.offsets[i + 1]; ++b)
+            if (access.model.blocks[cloud.block[i]].horizon != access.model.blocks[cloud.block[access.discretization.bonds.neighbor[b]]].horizon)
+              asymmetric = 1;
+        AssertThrow(Utilities::MPI::max(asymmetric, comm) == 0,
+                    ExcMessage("the quasistatic solver with a state-based material (LPS) needs bonded "
+                               "blocks to share one horizon (Blocks/*/Horizon)"));
+      }
+
+    // Which local degrees of freedom are prescribed (ghosts from their owners).
+    const unsigned int n_owned = cloud.n_owned();
+    {
+      VectorType flags(cloud.vector_partitioner);
+      for (const auto &c : access.conditions.constraints)
+        flags.local_element(dim * c.point + c.component) = 1;
+      flags.update_ghost_values();
+      constrained_dofs.assign(dim * cloud.n_local(), 0);
+      for (unsigned int k = 0; k < dim * cloud.n_local(); ++k)
+        constrained_dofs[k] = flags.local_element(k) != 0;
+    }
+
+    // The unknowns (with continuum blocks: the free DoFs of real points and
+    // FE nodes, coupled_tangent.h; without: every owned PD DoF, prescribed
+    // ones with identity rows) and the prescribed entries, by position and
+    // component: the rigid-body modes about the centroid are the AMG's near
+    // null space and the motions some condition must remove.
+    std::vector<std::pair<Point<dim>, unsigned int>> unknowns, prescribed;
+    std::vector<unsigned int>                        pd_free, fe_free;
+    if (has_continuum)
+      {
+        for (unsigned int k = 0; k < dim * n_owned; ++k)
+          if (!constrained_dofs[k] && !access.discretization.is_virtual(k / dim))
+            pd_free.push_back(k);
+        const std::vector<std::uint8_t> fe_prescribed = access.conditions.fe_prescribed_flags();
+        for (const auto &c : access.conditions.node_constraints)
+          prescribed.emplace_back(continuum->nodes[c.node].x, continuum->nodes[c.node].component);
+        for (const unsigned int l : continuum->free)
+          if (!fe_prescribed[l])
+            fe_free.push_back(l);
+        std::vector<unsigned int> node_of(continuum->F.locally_owned_size(), 0);
+        for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+          node_of[continuum->nodes[k].local] = k;
+        for (const unsigned int k : pd_free)
+          unknowns.emplace_back(cloud.position(k / dim), k % dim);
+        for (const unsigned int l : fe_free)
+          unknowns.emplace_back(continuum->nodes[node_of[l]].x, continuum->nodes[node_of[l]].component);
+      }
+    else
+      for (unsigned int k = 0; k < dim * n_owned; ++k)
+        unknowns.emplace_back(cloud.position(k / dim), k % dim);
+    for (const auto &c : access.conditions.constraints)
+      prescribed.emplace_back(cloud.position(c.point), c.component);
+
+    std::array<double, dim> centre{{0, 0, 0}};
+    {
+      std::array<double, dim + 1> s{{0, 0, 0, 0}};
+      for (const auto &[x, c] : unknowns)
+        {
+          for (unsigned int d = 0; d < dim; ++d)
+            s[d] += x[d];
+          s[dim] += 1;
+        }
+      Utilities::MPI::sum(ArrayView<const double>(s.data(), s.size()), comm, ArrayView<double>(s.data(), s.size()));
+      for (unsigned int d = 0; d < dim; ++d)
+        centre[d] = s[dim] > 0 ? s[d] / s[dim] : 0.0;
+    }
+    const unsigned int n = unknowns.size();
+    rigid_modes.assign(6 * n, 0.0);
+    double extent = 0;
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        const auto  &[p, c] = unknowns[k];
+        const double x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
+        extent = std::max({extent, std::abs(x), std::abs(y), std::abs(z)});
+        for (unsigned int mode = 0; mode < 6; ++mode)
+          rigid_modes[mode * n + k] = rigid_mode_value(mode, c, x, y, z);
+      }
+    extent = Utilities::MPI::max(extent, comm);
+    // A motion is removed if a prescribed entry moves with it; a hinge or
+    // a single held point leaves combinations of the coordinate modes free.
+    std::string free_modes;
+    for (const auto &mode : free_rigid_modes(prescribed, centre, extent, comm))
+      free_modes += (free_modes.empty() ? "" : ", ") + mode;
+    AssertThrow(!need_supports || free_modes.empty(),
+                ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
+                           "motion(s) " + free_modes + ". Prescribe displacements (Type = Prescribed "
+                           "displacement) on regions that hold the body in place"));
+
+    {
+      TimerOutput::Scope t(timer, "implicit: sparsity");
+      tangent = std::make_unique<Tangent>();
+      if (implicit.jacobian == "Matrix free")
+        tangent->reinit_diagonal(cloud, hops, comm);
+      else
+        tangent->reinit(cloud, access.discretization.bonds, hops, comm);
+      if (has_continuum)
+        {
+          coupled_tangent = std::make_unique<CoupledTangent>();
+          coupled_tangent->reinit(pd_free, fe_free, access.coupling->virtual_points, continuum->interpolation(), tangent->owned,
+                                  continuum->vector_partitioner(), continuum->stiffness(), comm);
+          symmetry_reported = false;
+        }
+    }
+    use_finite_differences = implicit.tangent == "Finite differences";
+    fd_step                = std::numeric_limits<double>::max();
+    for (unsigned int i = 0; i < n_owned; ++i)
+      fd_step = std::min(fd_step, 1e-6 * std::cbrt(cloud.volume[i]));
+    fd_step = Utilities::MPI::min(fd_step, comm);
+  }
+
+  double
+  ImplicitSolver::residual(std::vector<double> &R, double &force_norm)
+  {
+    TimerOutput::Scope t(timer, "implicit: residual");
+    if (has_continuum)
+      {
+        if (continuum->hanging.n_constraints() > 0)
+          continuum->hanging.distribute(continuum->U);
+        access.coupling->update_virtual_points(state.displacement);
+      }
+    state.displacement.update_ghost_values();
+    access.model.compute_forces(false);
+    double free = 0, all = 0;
+    if (has_continuum)
+      {
+        // The free DoFs (coupled_tangent.h): V f at real points, the FE nodal
+        // force Pi^T (V f) - K U + load; the force scale over every real point
+        // and FE node, supports included.
+        const std::vector<unsigned int> &pd = coupled_tangent->pd_dofs, &fe = coupled_tangent->fe_dofs;
+        for (unsigned int j = 0; j < pd.size(); ++j)
+          {
+            const unsigned int k = pd[j];
+            R[j]                 = cloud.volume[k / dim] * state.force.local_element(k);
+            if (newmark_inertia > 0)
+              R[j] -= state.mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
+                      (state.displacement.local_element(k) - u_predicted[k]);
+          }
+        for (unsigned int j = 0; j < fe.size(); ++j)
+          {
+            const unsigned int l = fe[j];
+            R[pd.size() + j]     = continuum->F.local_element(l);
+            if (newmark_inertia > 0)
+              R[pd.size() + j] -= continuum->mass.local_element(l) * newmark_inertia *
+                                  (continuum->U.local_element(l) - fe_u_predicted[l]);
+          }
+        for (const double r : R)
+          free += r * r;
+        for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
+          if (!access.discretization.is_virtual(k / dim))
+            all += std::pow(cloud.volume[k / dim] * state.force.local_element(k), 2);
+        for (const unsigned int l : continuum->free)
+          all += std::pow(continuum->F.local_element(l), 2);
+      }
+    else
+      for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
+        {
+          double r = cloud.volume[k / dim] * state.force.local_element(k);
+          if (newmark_inertia > 0)
+            r -= state.mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
+                 (state.displacement.local_element(k) - u_predicted[k]);
+          R[k] = constrained_dofs[k] ? 0 : r;
+          free += R[k] * R[k];
+          const double F = cloud.volume[k / dim] * state.force.local_element(k);
+          all += F * F;
+        }
+    double sums[2] = {free, all};
+    Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
+    force_norm = std::sqrt(sums[1]);
+    return std::sqrt(sums[0]);
+  }
+
+  unsigned int
+  ImplicitSolver::n_unknowns() const
+  {
+    return has_continuum ? coupled_tangent->pd_dofs.size() + coupled_tangent->fe_dofs.size() : dim * cloud.n_owned();
+  }
+
+  double &
+  ImplicitSolver::unknown(const unsigned int j)
+  {
+    if (!has_continuum)
+      return state.displacement.local_element(j);
+    const std::vector<unsigned int> &pd = coupled_tangent->pd_dofs;
+    return j < pd.size() ? state.displacement.local_element(pd[j]) :
+                           continuum->U.local_element(coupled_tangent->fe_dofs[j - pd.size()]);
+  }
+
+  void
+  ImplicitSolver::assemble_tangent()
+  {
+    TimerOutput::Scope t(timer, "implicit: tangent");
+    TangentRows       &rows = tangent->begin(constrained_dofs);
+    if (implicit.jacobian == "Matrix free")
+      {
+        const unsigned int missing = access.model.add_tangent(rows) ? 0 : 1;
+        AssertThrow(Utilities::MPI::max(missing, comm) == 0,
+                    ExcMessage("Solver/Implicit/Jacobian = Matrix free: a material has no analytic tangent "
+                               "for the preconditioner; use Jacobian = Assembled"));
+        std::vector<double> mass;
+        if (newmark_inertia > 0)
+          for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
+            mass.push_back(state.mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia);
+        tangent->finish_diagonal(mass, block_inverse);
+        return;
+      }
+    const bool analytic = !use_finite_differences && access.model.add_tangent(rows);
+    // One block without an analytic tangent: finite differences for all
+    // (the force differences see every block at once).
+    if (Utilities::MPI::min(analytic ? 1u : 0u, comm) == 0)
+      {
+        if (!use_finite_differences)
+          {
+            use_finite_differences = true;
+            access.record.warnings.push_back("a material has no analytic tangent: the quasistatic solver uses finite differences");
+            tangent->begin(constrained_dofs);
+          }
+        double horizon = 0;
+        for (const auto &b : access.model.blocks)
+          horizon = std::max(horizon, b.horizon);
+        tangent->add_finite_differences(state.displacement, state.force, [this] { access.model.compute_forces(false); }, fd_step,
+                                        tangent->hops * horizon);
+      }
+    if (newmark_inertia > 0)
+      {
+        std::vector<double> mass(dim * cloud.n_owned());
+        for (unsigned int k = 0; k < mass.size(); ++k)
+          mass[k] = state.mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia;
+        tangent->add_to_diagonal(mass);
+      }
+    tangent->finish();
+    if (has_continuum)
+      {
+        TimerOutput::Scope t(timer, "implicit: coupled tangent");
+        coupled_tangent->assemble(tangent->matrix);
+        if (newmark_inertia > 0) // the PD points' mass went in through A
+          {
+            std::vector<double> mass(coupled_tangent->fe_dofs.size());
+            for (unsigned int j = 0; j < mass.size(); ++j)
+              mass[j] = continuum->mass.local_element(coupled_tangent->fe_dofs[j]) * newmark_inertia;
+            coupled_tangent->add_to_fe_diagonal(mass);
+          }
+        rebuild_amg = true; // a new matrix object
+        if (!symmetry_reported)
+          {
+            pcout << "  coupled tangent: " << coupled_tangent->matrix.n_nonzero_elements()
+                  << " nonzeros; symmetry defect |x.Ky - y.Kx| / (|x| |y| |K|) = "
+                  << sci(coupled_tangent->symmetry_defect(), 3) << std::endl;
+            symmetry_reported = true;
+          }
+      }
+  }
+
+  NewtonResult
+  ImplicitSolver::solve_newton(const unsigned int step)
+  {
+    const unsigned int  n = n_unknowns();
+    std::vector<double> R(n), du(n), u0(n);
+    NewtonResult        result;
+    double              forces = 0;
+    double              r      = residual(R, forces);
+    rebuild_amg                = true; // a new solve builds its own hierarchy
+    const double        r_start   = r;
+    pcout << "  Newton 0: |R| = " << sci(r, 4) << std::endl;
+    for (unsigned int it = 1;; ++it)
+      {
+        const double target = std::max(implicit.tolerance * std::max(r_start, forces), implicit.absolute_tolerance);
+        if (r <= target)
+          break;
+        AssertThrow(it <= implicit.max_newton,
+                    ExcMessage("Newton did not converge in step " + std::to_string(step) + " after " +
+                               std::to_string(implicit.max_newton) + " iterations (|R| = " + sci(r) +
+                               ", wanted " + sci(target) + "): take more (smaller) steps (Solver/Number of steps) "
+                               "or raise Solver/Implicit/Maximum Newton iterations"));
+        assemble_tangent();
+        const unsigned int linear = solve_linear(R, du);
+        result.linear_iterations += linear;
+
+        for (unsigned int k = 0; k < n; ++k)
+          u0[k] = unknown(k);
+        double       alpha = 1, r_new = 0;
+        unsigned int cuts  = 0;
+        for (;; ++cuts)
+          {
+            for (unsigned int k = 0; k < n; ++k)
+              unknown(k) = u0[k] + alpha * du[k];
+            r_new = residual(R, forces);
+            if (!implicit.line_search || (std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r) || cuts == 10)
+              break;
+            alpha /= 2;
+          }
+        AssertThrow(std::isfinite(r_new),
+                    ExcMessage("the residual became non-finite in step " + std::to_string(step) +
+                               ", Newton iteration " + std::to_string(it) + ": the step is too large"));
+        if (implicit.line_search && r_new > (1 - 1e-4 * alpha) * r)
+          {
+            // No descent along the Newton direction: at round-off, keep the
+            // better state and stop; far from it, the tangent is wrong.
+            const double scale = std::max(r_start, forces);
+            AssertThrow(r <= 1e-6 * scale,
+                        ExcMessage("Newton stagnated in step " + std::to_string(step) + " at |R| = " + sci(r) +
+                                   " (" + sci(r / scale) + " of the forces): the tangent does not match the "
+                                   "force (try Solver/Implicit/Tangent = Finite differences)"));
+            for (unsigned int k = 0; k < n; ++k)
+              unknown(k) = u0[k];
+            r = residual(R, forces);
+            pcout << "  Newton " << it << ": |R| = " << sci(r, 4) << " is at round-off (" << sci(r / scale, 3)
+                  << " of the forces): accepted" << std::endl;
+            result.newton_iterations = it;
+            break;
+          }
+        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << implicit.linear_solver << " "
+              << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string()) << ")"
+              << std::endl;
+        r = r_new;
+        result.newton_iterations = it;
+      }
+    result.residual = r;
+    return result;
+  }
+
+  void
+  ImplicitSolver::solve_step(const unsigned int step)
+  {
+    access.record.last_newton        = NewtonResult();
+    access.record.last_damage_solves = 0;
+    for (;;)
+      {
+        const NewtonResult solve = solve_newton(step);
+        ++access.record.last_damage_solves;
+        access.record.last_newton.newton_iterations += solve.newton_iterations;
+        access.record.last_newton.linear_iterations += solve.linear_iterations;
+        access.record.last_newton.residual = solve.residual;
+        if (access.model.broken.empty())
+          return;
+        std::vector<std::uint8_t> broken_before;
+        if (access.deck.solver.track_dissipation)
+          broken_before = access.model.broken;
+        const std::size_t newly = access.model.break_bonds();
+        if (newly == 0)
+          return;
+        if (access.deck.solver.track_dissipation)
+          access.record.dissipated_energy += access.model.released_energy(broken_before);
+        pcout << "  " << newly / 2 << " bonds broke: solving the step again" << std::endl;
+        if (access.record.last_damage_solves == implicit.max_damage_solves)
+          {
+            access.record.warnings.push_back("step " + std::to_string(step) + ": bonds still broke after " +
+                               std::to_string(access.record.last_damage_solves) +
+                               " solves (Solver/Implicit/Maximum damage solves)");
+            return;
+          }
+      }
+  }
+
+  ImplicitSolver::LoadPathState
+  ImplicitSolver::load_path_state() const
+  {
+    LoadPathState s;
+    for (const auto &c : access.conditions.constraints)
+      s.support.push_back(access.conditions.support_force(c));
+    for (const auto &c : access.conditions.node_constraints)
+      s.node_support.push_back(access.conditions.node_support_force(c));
+    s.u.assign(state.displacement.begin(), state.displacement.begin() + dim * cloud.n_owned());
+    s.body = access.conditions.body_force;
+    if (has_continuum)
+      {
+        s.fe_u.assign(continuum->U.begin(), continuum->U.begin() + continuum->U.locally_owned_size());
+        if (continuum->load.size() > 0)
+          s.load.assign(continuum->load.begin(), continuum->load.begin() + continuum->load.locally_owned_size());
+      }
+    return s;
+  }
+
+  double
+  ImplicitSolver::load_path_work(const LoadPathState &start) const
+  {
+    // Trapezoidal sums of force x displacement increment: exact while the
+    // forces change linearly over the step (a linear material, small strain).
+    double        work = 0;
+    const double *u    = state.displacement.begin();
+    for (unsigned int c = 0; c < access.conditions.constraints.size(); ++c)
+      {
+        const unsigned int k = dim * access.conditions.constraints[c].point + access.conditions.constraints[c].component;
+        work += 0.5 * (start.support[c] + access.conditions.support_force(access.conditions.constraints[c])) * (u[k] - start.u[k]);
+      }
+    // A body force on a prescribed entry is balanced by its support.
+    for (unsigned int k = 0; k < access.conditions.body_force.size(); ++k)
+      if (!constrained_dofs[k])
+        work += 0.5 * (start.body[k] + access.conditions.body_force[k]) * cloud.volume[k / dim] * (u[k] - start.u[k]);
+    if (has_continuum)
+      {
+        const double *U = continuum->U.begin();
+        for (unsigned int c = 0; c < access.conditions.node_constraints.size(); ++c)
+          {
+            const unsigned int l = continuum->nodes[access.conditions.node_constraints[c].node].local;
+            work += 0.5 * (start.node_support[c] + access.conditions.node_support_force(access.conditions.node_constraints[c])) * (U[l] - start.fe_u[l]);
+          }
+        if (!start.load.empty())
+          {
+            const std::vector<std::uint8_t> prescribed = access.conditions.fe_prescribed_flags();
+            for (const unsigned int l : continuum->free)
+              if (!prescribed[l])
+                work += 0.5 * (start.load[l] + continuum->load.local_element(l)) * (U[l] - start.fe_u[l]);
+          }
+      }
+    return Utilities::MPI::sum(work, comm);
+  }
+
+  // ------------------------------------------------- what both integrators share
+
+  ImplicitSolver &
+  ImplicitIntegrator::make_solver()
+  {
+    implicit_solver = std::make_unique<ImplicitSolver>(*access, access->deck.solver.implicit);
+    implicit_solver->setup(need_supports());
+    return *implicit_solver;
+  }
+
+  void
+  ImplicitIntegrator::check_jacobian(const SolverParameters &solver, const bool has_continuum)
+  {
+    AssertThrow(!has_continuum || solver.implicit.jacobian == "Assembled",
+                ExcMessage("Solver/Implicit/Jacobian: a scene with continuum blocks needs Assembled (the FE "
+                           "stiffness joins the PD tangent in one matrix)"));
+  }
+
+  void
+  ImplicitIntegrator::dry_run()
+  {
+    make_solver();
+    access->pcout << "  tangent:           " << implicit_solver->describe_tangent() << "\n";
+  }
+
+  void
+  ImplicitIntegrator::report_summary_speed(const double, const unsigned int) const
+  {
+    access->pcout << "  tangent:                " << implicit_solver->describe_tangent() << "\n";
+  }
+
+  void
+  ImplicitIntegrator::add_globals(std::vector<std::pair<std::string, double>> &row) const
+  {
+    const RunRecord    &record     = access->record;
+    const ConditionSet &conditions = access->conditions;
+    row.emplace_back("newton_iterations", record.last_newton.newton_iterations);
+    row.emplace_back("linear_iterations", record.last_newton.linear_iterations);
+    row.emplace_back("damage_solves", record.last_damage_solves);
+    row.emplace_back("residual", record.last_newton.residual);
+    // The force each prescribed condition's supports put on the body.
+    std::vector<double> reaction(conditions.conditions.size(), 0.0);
+    for (const auto &c : conditions.constraints)
+      reaction[c.condition] += conditions.support_force(c);
+    for (const auto &c : conditions.node_constraints)
+      reaction[c.condition] += conditions.node_support_force(c);
+    Utilities::MPI::sum(reaction, access->comm, reaction);
+    for (unsigned int c = 0; c < conditions.conditions.size(); ++c)
+      if (conditions.conditions[c].is_prescribed())
+        row.emplace_back("reaction_" + conditions.conditions[c].name, reaction[c]);
+  }
+} // namespace perideal

@@ -1,0 +1,147 @@
+// Quasistatic load stepping (Solver/Type = QuasiStatic), Peridigm's
+// QuasiStatic: load step k sets the prescribed displacements and body forces
+// at pseudo-time t_k and solves R(u) = V (f(u) + b) = 0 on the free degrees of
+// freedom by Newton's method (implicit_solver.h); bonds break between solves,
+// and the step is solved again while they do. No motion between load steps,
+// so no kinetic energy; the work of supports and loads is the trapezoid rule
+// over each step.
+
+#include <perideal/base/format.h>
+#include <perideal/base/interrupt.h>
+#include <perideal/continuum/coupling.h>
+#include <perideal/model/force_model.h>
+#include <perideal/output/postprocess.h>
+#include <perideal/simulation/deck.h>
+#include <perideal/solver/implicit_solver.h>
+
+#include <chrono>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  class QuasiStatic : public ImplicitIntegrator
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &)
+    {}
+
+    void
+    check_parameters(const SolverParameters &solver, const bool has_continuum) const override
+    {
+      AssertThrow(solver.requested_steps > 0,
+                  ExcMessage("Solver/Number of steps: the quasistatic solver needs the number of load steps (> 0)"));
+      check_jacobian(solver, has_continuum);
+    }
+
+    std::string
+    loop_name() const override
+    {
+      return "load steps";
+    }
+
+    void
+    run() override
+    {
+      do_initial_step();
+      for (step = 1; step <= n_steps; ++step)
+        do_load_step();
+      finish();
+    }
+
+  protected:
+    bool
+    need_supports() const override
+    {
+      return true;
+    }
+
+  private:
+    void
+    do_initial_step();
+    void
+    do_load_step();
+    void
+    finish();
+
+    unsigned int n_steps = 0, step = 0;
+    double       t0 = 0, t1 = 0, dt_load = 0;
+    unsigned int total_newton = 0, total_linear = 0, total_solves = 0;
+    std::chrono::steady_clock::time_point start;
+  };
+
+  void
+  QuasiStatic::do_initial_step()
+  {
+    const SolverParameters &solver = access->deck.solver;
+    n_steps                        = solver.requested_steps;
+    t0                             = solver.initial_time;
+    t1      = solver.final_time > solver.initial_time ? solver.final_time : solver.initial_time + 1;
+    dt_load = (t1 - t0) / n_steps;
+    access->record.dt = dt_load;
+    access->post.output.initialize(access->comm);
+    access->conditions.apply_initial_conditions(solver.initial_time);
+    access->model.breaking_allowed = false;
+    make_solver();
+    access->stop_if_interrupted_in_setup();
+    access->pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
+                  << implicit_solver->describe_tangent() << std::endl;
+
+    access->evaluate_initial_state();
+    access->record_initial_state(n_steps, t0);
+    start = std::chrono::steady_clock::now();
+  }
+
+  void
+  QuasiStatic::do_load_step()
+  {
+    RunRecord       &record     = access->record;
+    ConditionSet    &conditions = access->conditions;
+    Postprocess     &post       = access->post;
+    const double     time       = t0 + step * dt_load;
+    access->pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
+    const ImplicitSolver::LoadPathState step_start = implicit_solver->load_path_state();
+    conditions.apply_prescribed(time, dt_load);
+    // No motion between load steps (apply_prescribed sets the supports'
+    // rate), so no kinetic energy.
+    access->state.velocity = 0;
+    if (access->coupling)
+      access->coupling->continuum.V = 0;
+    if (conditions.loads_depend_on_time)
+      conditions.evaluate_loads(time);
+    conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
+    implicit_solver->solve_step(step);
+    total_newton += record.last_newton.newton_iterations;
+    total_linear += record.last_newton.linear_iterations;
+    total_solves += record.last_damage_solves;
+    access->state.displacement.update_ghost_values();
+    access->model.compute_forces(true);
+    record.external_work += implicit_solver->load_path_work(step_start);
+    if (post.output.is_output_step(step, n_steps))
+      post.write_output(step, time, post.output.is_globals_step(step, n_steps),
+                        post.output.is_field_step(step, n_steps));
+    // SIGTERM, SIGINT: stop after the load step (one reduction per step).
+    if (interrupt_signal(access->comm) != 0)
+      access->stop_interrupted(step, time, n_steps,
+                               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+
+  void
+  QuasiStatic::finish()
+  {
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Postprocess &post    = access->post;
+    // The energy balance needs the final strain energy.
+    if (!post.output.is_output_step(n_steps, n_steps))
+      post.global_quantities(n_steps, t1);
+    access->pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
+                  << " Newton iterations, " << total_linear << " " << access->deck.solver.implicit.linear_solver
+                  << " iterations in " << sci(seconds, 4) << " s" << std::endl;
+    post.print_summary(seconds, n_steps);
+  }
+
+  PERIDEAL_REGISTER(TimeIntegrator, QuasiStatic, "QuasiStatic",
+                    "Number of steps load steps from Initial time to Final time (a pseudo-time; 0 to 1 if Final "
+                    "time is not after Initial time), each solved by Newton's method (subsection Implicit).")
+} // namespace perideal

@@ -1,0 +1,569 @@
+// Explicit velocity-Verlet with lumped mass (Solver/Type = Verlet):
+//   v += dt/2 f/rho;  u += dt v;  prescribed entries;  f = f(u);  v += dt/2 f/rho
+// over the PD points, and the same over the free FE DoFs of continuum blocks
+// with their lumped mass. The step is a safety factor times the smallest
+// stable estimate (or fixed), shortened while a point with intact bonds moves
+// more than a fraction of the point spacing per step. The work of supports
+// and loads is summed per step (trapezoid rule), so the energy balance of the
+// summary closes; a run whose kinetic energy grows past a limit, or turns
+// non-finite, stops naming the point and the likely cause.
+
+#include <perideal/base/best_point.h>
+#include <perideal/base/format.h>
+#include <perideal/base/interrupt.h>
+#include <perideal/conditions/condition_set.h>
+#include <perideal/continuum/coupling.h>
+#include <perideal/model/force_model.h>
+#include <perideal/output/postprocess.h>
+#include <perideal/simulation/deck.h>
+#include <perideal/solver/stability_guard.h>
+#include <perideal/solver/time_integrator.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    // The automatic Verlet step keeps every point with intact bonds within
+    // this fraction of the point spacing per step. A point that crosses a
+    // large part of the spacing in one step outruns its neighbours' forces
+    // and energy is made: two blocks meeting at Mach 2 (tests/stability/
+    // impact.prm) gain 4.6% of their kinetic energy at 1.55 spacings per
+    // step (the stable elastic step), 0.98% at 0.77, 0.39% at 0.39, 0.089%
+    // at 0.19: about 0.02 (|v| dt/h)^2. LAMMPS' fix dt/reset limits the
+    // same motion per step.
+    constexpr double max_spacing_fraction = 0.2;
+  } // namespace
+
+  class Verlet : public TimeIntegrator
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Verlet");
+      prm.declare_entry("Fixed dt", "0", Patterns::Double(0),
+                        "Time step; 0: Safety factor times the smallest stable estimate over all points, "
+                        "shortened in a step that starts with a point with intact bonds faster than 0.2 "
+                        "point spacings per step (a faster one outruns its neighbours' forces and makes "
+                        "energy; a fixed step that allows it is warned about).");
+      prm.declare_entry("Safety factor", "0.8", Patterns::Double(0, 1),
+                        "Fraction of the stable time step used when Fixed dt is 0.");
+      prm.leave_subsection();
+    }
+
+    void
+    parse_parameters(ParameterHandler &prm) override
+    {
+      prm.enter_subsection("Verlet");
+      fixed_dt      = prm.get_double("Fixed dt");
+      safety_factor = prm.get_double("Safety factor");
+      prm.leave_subsection();
+      AssertThrow(fixed_dt > 0 || safety_factor > 0,
+                  ExcMessage("Solver/Verlet/Safety factor must be positive when Fixed dt is 0"));
+    }
+
+    void
+    setup() override
+    {
+      RunRecord &record = access->record;
+      record.dt         = fixed_dt > 0 ? fixed_dt : safety_factor * record.dt_stable;
+      if (fixed_dt > record.dt_stable)
+        record.warnings.push_back("Fixed dt " + sci(fixed_dt) + " exceeds the stable estimate " +
+                                  sci(record.dt_stable) + " (" + sci(fixed_dt / record.dt_stable, 3) +
+                                  " times): the run may become unstable");
+    }
+
+    void
+    report_setup() const override
+    {
+      access->pcout << "  stable time step:  " << sci(access->record.dt_stable, 6)
+                    << " (smallest over all points)\n"
+                    << "  time step:         " << sci(access->record.dt, 6)
+                    << (fixed_dt > 0 ? " (fixed)" : " (safety factor " + sci(safety_factor, 3) + ")") << "\n";
+    }
+
+    void
+    run() override
+    {
+      do_initial_timestep();
+      while (!do_timestep())
+        ;
+      finish();
+    }
+
+    void
+    report_summary_speed(const double loop_seconds, const unsigned int steps) const override
+    {
+      const double       bonds   = Utilities::MPI::sum(double(access->discretization.bonds.n_bonds()), access->comm);
+      const double       updates = loop_seconds > 0 ? bonds * steps / loop_seconds : 0;
+      const unsigned int ranks   = Utilities::MPI::n_mpi_processes(access->comm);
+      access->pcout << "  bond updates per second: " << sci(updates / 1e6, 4) << " M ("
+                    << sci(updates / 1e6 / ranks, 4) << " M per rank)\n";
+    }
+
+    void
+    report_summary_step() const override
+    {
+      const RunRecord &record = access->record;
+      access->pcout << "  stable time step:       " << sci(record.dt_stable, 6) << ", used " << sci(record.dt, 6);
+      if (record.shortened_steps > 0)
+        access->pcout << "; " << record.shortened_steps << " steps shortened to keep max |v| dt <= "
+                      << sci(max_spacing_fraction, 2) << " point spacings, the shortest " << sci(record.shortest_dt, 6);
+      access->pcout << "\n";
+    }
+
+  private:
+    /// The step count, the initial state (written at step 0), and what the
+    /// steps keep: inverse densities and masses, the constrained entries.
+    void
+    do_initial_timestep();
+    /// One step; true after the last one.
+    bool
+    do_timestep();
+    /// The final energies and the summary.
+    void
+    finish();
+    /// Stops, after writing the last good state, if the step made the state
+    /// non-finite or the kinetic energy grew past the limit. Collective.
+    void
+    check_growth(const double ke, const double new_time);
+    /// The progress line every 10% or 30 s.
+    void
+    report_progress(const bool last);
+
+    double fixed_dt = 0, safety_factor = 0.8;
+
+    // The run: its steps, its clock, and where it stands.
+    unsigned int n_steps = 0, step = 0;
+    bool         counted  = true; // n_steps steps; else up to Final time
+    bool         adaptive = true; // the automatic step (shortened for fast points)
+    double       time = 0, dt_elastic = 0, spacing = 0, speed = 0;
+    bool         fast_warned = false;
+    std::chrono::steady_clock::time_point start, last_print;
+    double                                last_percent = 0;
+
+    // What the steps keep.
+    std::vector<bool>         constrained; // per PD entry
+    std::vector<double>       inverse_density, u_previous, v_previous;
+    std::vector<std::uint8_t> broken_before; // the bonds' state before a step's breaks
+    const std::vector<unsigned int> *fe_free = nullptr;
+    std::vector<double>       fe_inverse_mass, U_previous, V_previous;
+    std::vector<std::uint8_t> fe_constrained;
+    std::vector<int>          constrained_free; // per node constraint: index into fe_free, -1: none
+    bool                      fe_hanging = false;
+    std::vector<double>       body_previous, load_previous; // the loads at the start of a step
+  };
+
+  void
+  Verlet::do_initial_timestep()
+  {
+    const SolverParameters &solver     = access->deck.solver;
+    RunRecord              &record     = access->record;
+    ConditionSet           &conditions = access->conditions;
+    MechanicalState        &state      = access->state;
+    const PointCloud       &cloud      = access->discretization.cloud;
+    const MPI_Comm          comm       = access->comm;
+    ContinuumField         *continuum  = access->coupling ? &access->coupling->continuum : nullptr;
+
+    n_steps = solver.requested_steps;
+    if (n_steps == 0)
+      {
+        // Counted in double first: steps are numbered in 32 bits, and a
+        // count that wrapped would silently replace dt by another step.
+        const double steps = std::ceil((solver.final_time - solver.initial_time) / record.dt - 1e-9);
+        AssertThrow(steps <= double(std::numeric_limits<unsigned int>::max()),
+                    ExcMessage("Solver/Final time: (Final time - Initial time) / dt = (" + sci(solver.final_time, 6) +
+                               " - " + sci(solver.initial_time, 6) + ") / " + sci(record.dt, 6) +
+                               (fixed_dt > 0 ? std::string(" (Solver/Verlet/Fixed dt)") :
+                                               " (the stable time step x Solver/Verlet/Safety factor " +
+                                                 sci(safety_factor, 3) + ")") +
+                               " is " + sci(steps, 4) + " steps, more than the " +
+                               std::to_string(std::numeric_limits<unsigned int>::max()) +
+                               " a run can number: shorten the run" +
+                               (fixed_dt > 0 ? std::string(" or take a larger Fixed dt") :
+                                               std::string(" or use coarser cells (a larger stable step)"))));
+        n_steps   = std::max(1u, static_cast<unsigned int>(steps));
+        record.dt = (solver.final_time - solver.initial_time) / n_steps;
+      }
+    access->stop_if_interrupted_in_setup();
+    access->post.output.initialize(comm);
+
+    const unsigned int n       = cloud.n_owned();
+    const unsigned int entries = dim * n;
+    conditions.apply_initial_conditions(solver.initial_time);
+    access->evaluate_initial_state();
+    access->record_initial_state(n_steps, solver.initial_time);
+    for (unsigned int k = 0; k < conditions.constraints.size(); ++k)
+      conditions.constraint_force[k] =
+        state.force.local_element(dim * conditions.constraints[k].point + conditions.constraints[k].component);
+
+    // The constrained entries (the rest follow the equations of motion).
+    constrained.assign(entries, false);
+    for (const auto &c : conditions.constraints)
+      constrained[dim * c.point + c.component] = true;
+
+    inverse_density.resize(n);
+    for (unsigned int i = 0; i < n; ++i)
+      inverse_density[i] =
+        state.mass_density[i] > 0 ? 1 / state.mass_density[i] : 0.0; // virtual points follow the FE field
+    u_previous.resize(entries);
+    v_previous.resize(entries);
+
+    // The FE nodes of continuum blocks: the same velocity-Verlet steps with
+    // the lumped mass, over the owned DoFs free of hanging-node constraints.
+    static const std::vector<unsigned int> no_dofs;
+    fe_free = continuum ? &continuum->free : &no_dofs;
+    fe_inverse_mass.resize(fe_free->size());
+    U_previous.resize(fe_free->size());
+    V_previous.resize(fe_free->size());
+    if (continuum)
+      {
+        fe_constrained = conditions.fe_prescribed_flags();
+        for (unsigned int j = 0; j < fe_free->size(); ++j)
+          fe_inverse_mass[j] =
+            fe_constrained[(*fe_free)[j]] ? 0.0 : 1 / continuum->mass.local_element((*fe_free)[j]);
+        for (unsigned int k = 0; k < conditions.node_constraints.size(); ++k)
+          {
+            const unsigned int local = continuum->nodes[conditions.node_constraints[k].node].local;
+            conditions.node_constraint_force[k] = continuum->F.local_element(local);
+            // Its place among the free DoFs; a hanging node follows its masters.
+            const auto j = std::lower_bound(fe_free->begin(), fe_free->end(), local);
+            constrained_free.push_back(j != fe_free->end() && *j == local ? j - fe_free->begin() : -1);
+          }
+      }
+    fe_hanging = continuum && Utilities::MPI::sum(continuum->hanging.n_constraints(), comm) > 0;
+    // The loads at the start of a step (constant loads: the same as at its end).
+    body_previous = conditions.body_force;
+    if (continuum && continuum->load.size() > 0)
+      for (const unsigned int k : *fe_free)
+        load_previous.push_back(continuum->load.local_element(k));
+
+    access->pcout << "Time integration: " << n_steps << " steps of " << sci(record.dt, 6)
+                  << " from t = " << solver.initial_time
+                  << (fixed_dt == 0 ? " (shorter while a point moves more than " + sci(max_spacing_fraction, 2) +
+                                        " point spacings per step)" :
+                                      "")
+                  << std::endl;
+    start        = std::chrono::steady_clock::now();
+    last_print   = start;
+    last_percent = 0;
+    step         = 0;
+    time         = solver.initial_time;
+    // The automatic step also keeps max |v| dt <= max_spacing_fraction h
+    // (see there); a fixed one is only warned about.
+    adaptive    = fixed_dt == 0;
+    counted     = solver.requested_steps > 0 || !adaptive;
+    dt_elastic  = record.dt;
+    spacing     = access->discretization.point_spacing();
+    speed       = access->model.fastest_bonded_speed();
+    fast_warned = false;
+  }
+
+  bool
+  Verlet::do_timestep()
+  {
+    const SolverParameters &solver     = access->deck.solver;
+    RunRecord              &record     = access->record;
+    ConditionSet           &conditions = access->conditions;
+    MechanicalState        &state      = access->state;
+    ForceModel             &model      = access->model;
+    Postprocess            &post       = access->post;
+    const PointCloud       &cloud      = access->discretization.cloud;
+    const MPI_Comm          comm       = access->comm;
+    TimerOutput            &timer      = access->timer;
+    ContinuumField         *continuum  = access->coupling ? &access->coupling->continuum : nullptr;
+    const unsigned int      n          = cloud.n_owned();
+    const unsigned int      entries    = dim * n;
+    double *const           u          = state.displacement.begin();
+    double *const           v          = state.velocity.begin();
+    double *const           f          = state.force.begin();
+    double                 &dt         = record.dt;
+
+    ++step;
+    if (adaptive && speed * dt_elastic > max_spacing_fraction * spacing)
+      {
+        dt = max_spacing_fraction * spacing / speed;
+        ++record.shortened_steps;
+        record.shortest_dt = std::min(record.shortest_dt, dt);
+      }
+    else
+      dt = dt_elastic;
+    // With Number of steps or a fixed step: n_steps steps; else up to
+    // Final time, the last step shortened to land on it.
+    const bool last = counted ? step == n_steps : time + dt * (1 + 1e-9) >= solver.final_time;
+    if (last && !counted)
+      dt = solver.final_time - time;
+    const double new_time = last && !counted           ? solver.final_time :
+                            record.shortened_steps > 0 ? time + dt :
+                                                         solver.initial_time + step * dt;
+    const unsigned int steps_now = counted ? n_steps : last ? step : 0; // for the output steps
+    {
+      TimerOutput::Scope t(timer, "time integration");
+      std::copy(u, u + entries, u_previous.begin());
+      std::copy(v, v + entries, v_previous.begin());
+      // Half kick and drift; the force already holds the body force.
+      for (unsigned int k = 0; k < entries; ++k)
+        {
+          v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
+          u[k] += dt * v[k];
+        }
+      if (continuum)
+        {
+          double *const       U = continuum->U.begin(), *const V = continuum->V.begin();
+          const double *const F = continuum->F.begin();
+          for (unsigned int j = 0; j < fe_free->size(); ++j)
+            {
+              const unsigned int k = (*fe_free)[j];
+              U_previous[j]        = U[k];
+              V_previous[j]        = V[k];
+              V[k] += 0.5 * dt * F[k] * fe_inverse_mass[j];
+              U[k] += dt * V[k];
+            }
+        }
+      conditions.apply_prescribed(new_time, dt);
+      if (fe_hanging)
+        continuum->hanging.distribute(continuum->U);
+      if (conditions.loads_depend_on_time)
+        {
+          // The work of a load over the step is the trapezoid of its two ends.
+          body_previous = conditions.body_force;
+          for (unsigned int j = 0; j < load_previous.size(); ++j)
+            load_previous[j] = continuum->load.local_element((*fe_free)[j]);
+          conditions.evaluate_loads(new_time);
+        }
+    }
+    {
+      TimerOutput::Scope t(timer, "ghost exchange");
+      access->update_ghosts();
+    }
+    const bool output_step = post.output.is_output_step(step, steps_now);
+    if (solver.track_dissipation && !model.broken.empty())
+      broken_before = model.broken;
+    const std::size_t broken_so_far = model.broken_bond_count;
+    model.compute_forces(output_step);
+
+    double ke = 0, work = 0;
+    {
+      TimerOutput::Scope t(timer, "time integration");
+      for (unsigned int k = 0; k < entries; ++k)
+        v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
+      // Prescribed velocities stay as prescribed.
+      for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
+        {
+          const ConditionSet::Constraint &con = conditions.constraints[c];
+          const unsigned int              e   = dim * con.point + con.component;
+          const BoundaryCondition        &bc  = conditions.conditions[con.condition];
+          if (bc.type == BoundaryCondition::Type::prescribed_velocity)
+            v[e] = bc.value->value(cloud.position(con.point), new_time, cloud.hash(con.point));
+          else
+            v[e] = (u[e] - u_previous[e]) / dt;
+          // Work of the reaction: the change of kinetic energy of the
+          // constrained entry minus the work of the internal force on it.
+          const double mass = state.mass_density[con.point] * cloud.volume[con.point];
+          work += 0.5 * mass * (v[e] * v[e] - v_previous[e] * v_previous[e]) -
+                  0.5 * (conditions.constraint_force[c] + f[e]) * cloud.volume[con.point] * (u[e] - u_previous[e]);
+          conditions.constraint_force[c] = f[e];
+        }
+      const std::vector<double> &body_force = conditions.body_force;
+      if (!body_force.empty())
+        for (unsigned int k = 0; k < entries; ++k)
+          if (!constrained[k])
+            work += 0.5 * (body_force[k] + body_previous[k]) * cloud.volume[k / dim] * (u[k] - u_previous[k]);
+      for (unsigned int i = 0; i < n; ++i)
+        ke += 0.5 * state.mass_density[i] * cloud.volume[i] *
+              (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+      if (continuum)
+        {
+          double *const       U = continuum->U.begin(), *const V = continuum->V.begin();
+          const double *const F = continuum->F.begin(), *const M = continuum->mass.begin();
+          for (unsigned int j = 0; j < fe_free->size(); ++j)
+            {
+              const unsigned int k = (*fe_free)[j];
+              V[k] += 0.5 * dt * F[k] * fe_inverse_mass[j];
+            }
+          // The same bookkeeping as for the prescribed point entries;
+          // F is a nodal force, M a nodal mass.
+          for (unsigned int c = 0; c < conditions.node_constraints.size(); ++c)
+            {
+              const auto              &con  = conditions.node_constraints[c];
+              const auto              &node = continuum->nodes[con.node];
+              const BoundaryCondition &bc   = conditions.conditions[con.condition];
+              const unsigned int       k    = node.local;
+              if (constrained_free[c] < 0)
+                continue;
+              const unsigned int j = constrained_free[c];
+              if (bc.type == BoundaryCondition::Type::prescribed_velocity)
+                V[k] = bc.value->value(node.x, new_time, 0);
+              else
+                V[k] = (U[k] - U_previous[j]) / dt;
+              work += 0.5 * M[k] * (V[k] * V[k] - V_previous[j] * V_previous[j]) -
+                      0.5 * (conditions.node_constraint_force[c] + F[k]) * (U[k] - U_previous[j]);
+              conditions.node_constraint_force[c] = F[k];
+            }
+          if (continuum->load.size() > 0)
+            for (unsigned int j = 0; j < fe_free->size(); ++j)
+              if (!fe_constrained[(*fe_free)[j]])
+                work += 0.5 * (continuum->load.local_element((*fe_free)[j]) + load_previous[j]) *
+                        (U[(*fe_free)[j]] - U_previous[j]);
+          ke += continuum->local_kinetic_energy();
+        }
+    }
+    if (conditions.loads_depend_on_time)
+      for (const double b : conditions.body_force)
+        if (!std::isfinite(b))
+          conditions.bad_condition = conditions.conditions.size(); // reported below by a collective search
+    // The last entry: ranks that have received SIGTERM or SIGINT (the step
+    // is finished, written if an output step, then the run stops).
+    double sums[5] = {ke, work, double(conditions.bad_condition), double(model.broken_bond_count - broken_so_far),
+                      local_interrupt_signal() != 0 ? 1.0 : 0.0};
+    {
+      TimerOutput::Scope t(timer, "global sums");
+      Utilities::MPI::sum(ArrayView<const double>(sums, 5), comm, ArrayView<double>(sums, 5));
+    }
+    ke = sums[0];
+    record.external_work += sums[1];
+    if (solver.track_dissipation && sums[3] > 0)
+      {
+        // Leaves the same forces (same state and bonds) for the next kick.
+        TimerOutput::Scope t(timer, "dissipation");
+        record.dissipated_energy += model.released_energy(broken_before);
+      }
+    if (sums[2] > 0)
+      {
+        // Name the condition (collective), then stop.
+        conditions.check_condition_values(conditions.first_nonfinite_condition(new_time), new_time);
+        AssertThrow(false, ExcMessage("a boundary condition gave a non-finite value at t = " + sci(new_time, 6)));
+      }
+    check_growth(ke, new_time);
+
+    time = new_time;
+    if (output_step)
+      post.write_output(step, time, post.output.is_globals_step(step, steps_now),
+                        post.output.is_field_step(step, steps_now));
+    if (sums[4] > 0)
+      {
+        const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        dt                        = dt_elastic; // for the summary
+        access->stop_interrupted(step, time, steps_now, loop_seconds);
+      }
+
+    if (adaptive || !fast_warned)
+      speed = model.fastest_bonded_speed();
+    if (!adaptive && !fast_warned && speed * dt > max_spacing_fraction * spacing)
+      {
+        fast_warned = true;
+        record.warnings.push_back("step " + std::to_string(step) + " (t = " + sci(time, 6) +
+                                  "): a point with intact bonds moves " + sci(speed * dt / spacing, 3) +
+                                  " point spacings per step (|v| dt / h; the automatic step keeps this below " +
+                                  sci(max_spacing_fraction, 2) +
+                                  "): it outruns its neighbours' forces and the run gains energy; lower "
+                                  "Solver/Verlet/Fixed dt, or set it to 0 for the automatic step");
+      }
+    report_progress(last);
+    return last;
+  }
+
+  void
+  Verlet::check_growth(const double ke, const double new_time)
+  {
+    const SolverParameters &solver = access->deck.solver;
+    RunRecord              &record = access->record;
+    const double            reference = std::abs(record.initial_energy) + std::abs(record.external_work);
+    const bool              nonfinite = !std::isfinite(ke);
+    // With nothing put in yet (a load ramped from zero: its work is
+    // counted one drift after the kick it causes) there is no scale;
+    // a blow-up from rest still ends non-finite.
+    const bool exploding = !nonfinite && ke > 0 && reference > 0 && ke > solver.energy_growth_limit * reference;
+    if (!nonfinite && !exploding)
+      return;
+    const StabilityGuard guard(*access);
+    std::string          where = nonfinite ? guard.locate_nonfinite() : "";
+    if (exploding)
+      {
+        const BestPoint fastest = guard.fastest_point();
+        where                   = "fastest " + fastest.describe() + ", speed " + sci(fastest.value);
+      }
+    const double      dt    = record.dt;
+    const std::string cause = dt > record.dt_stable ?
+                                "the time step " + sci(dt) + " exceeds the stable estimate " + sci(record.dt_stable) +
+                                  ": lower Solver/Verlet/Fixed dt, or set it to 0 for the automatic step" :
+                                "loading or an initial state beyond what the material carries, or a time step too "
+                                "close to the limit (lower Solver/Verlet/Safety factor)";
+    // Write the last good state, then stop.
+    MechanicalState &state     = access->state;
+    ContinuumField  *continuum = access->coupling ? &access->coupling->continuum : nullptr;
+    std::copy(u_previous.begin(), u_previous.end(), state.displacement.begin());
+    std::copy(v_previous.begin(), v_previous.end(), state.velocity.begin());
+    for (unsigned int j = 0; j < fe_free->size(); ++j)
+      {
+        continuum->U.local_element((*fe_free)[j]) = U_previous[j];
+        continuum->V.local_element((*fe_free)[j]) = V_previous[j];
+      }
+    if (fe_hanging)
+      continuum->hanging.distribute(continuum->U);
+    access->update_ghosts();
+    Postprocess &post = access->post;
+    if (post.output.frequency > 0)
+      {
+        access->model.compute_forces(true);
+        post.write_output(step - 1, time);
+      }
+    AssertThrow(false,
+                ExcMessage(std::string(nonfinite ? "the solution became non-finite" :
+                                                   "the kinetic energy grew to " + sci(ke) + ", more than " +
+                                                     sci(solver.energy_growth_limit, 3) +
+                                                     " times the energy put in (" + sci(reference) + ")") +
+                           " at step " + std::to_string(step) + " (t = " + sci(new_time, 6) + "), " + where +
+                           ". Likely cause: " + cause +
+                           (post.output.frequency > 0 ? ". The last good state is written as step " +
+                                                          std::to_string(step - 1) + "." :
+                                                        "")));
+  }
+
+  void
+  Verlet::report_progress(const bool last)
+  {
+    const SolverParameters &solver  = access->deck.solver;
+    const auto              now     = std::chrono::steady_clock::now();
+    const double            percent = counted ? 100.0 * step / n_steps :
+                                                100.0 * (time - solver.initial_time) /
+                                                  (solver.final_time - solver.initial_time);
+    if (percent - last_percent >= 10 || std::chrono::duration<double>(now - last_print).count() > 30 || last)
+      {
+        const double elapsed = std::chrono::duration<double>(now - start).count();
+        access->pcout << "  " << std::setw(5) << std::fixed << std::setprecision(1) << percent << std::defaultfloat
+                      << "%  step " << step << (counted ? "/" + std::to_string(n_steps) : "")
+                      << "  t = " << sci(time, 6) << "  dt = " << sci(access->record.dt, 4) << "  ETA "
+                      << format_seconds(percent > 0 ? elapsed * (100 - percent) / percent : 0) << std::endl;
+        last_percent = percent;
+        last_print   = now;
+      }
+  }
+
+  void
+  Verlet::finish()
+  {
+    const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    access->record.dt         = dt_elastic; // for the summary
+    Postprocess &post         = access->post;
+    if (!post.output.is_output_step(step, step))
+      {
+        // The energy balance needs the final strain energy.
+        access->model.compute_forces(true);
+        post.global_quantities(step, time);
+      }
+    post.print_summary(loop_seconds, step);
+  }
+
+  PERIDEAL_REGISTER(TimeIntegrator, Verlet, "Verlet", "explicit velocity-Verlet with lumped mass.")
+} // namespace perideal
