@@ -160,19 +160,6 @@ namespace perideal
     for (const auto &b : blocks)
       hops = std::max(hops, b.material->coupling_hops());
 
-    // The 2-hop tangent assumes j in F(i) exactly when i in F(j).
-    if (hops == 2)
-      {
-        unsigned int asymmetric = 0;
-        for (unsigned int i = 0; i < cloud.n_owned() && !asymmetric; ++i)
-          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-            if (blocks[cloud.block[i]].horizon != blocks[cloud.block[bonds.neighbor[b]]].horizon)
-              asymmetric = 1;
-        AssertThrow(Utilities::MPI::max(asymmetric, comm) == 0,
-                    ExcMessage("the quasistatic solver with a state-based material (LPS) needs bonded "
-                               "blocks to share one horizon (Blocks/*/Horizon)"));
-      }
-
     // Which local degrees of freedom are prescribed (ghosts from their owners).
     const unsigned int n_owned = cloud.n_owned();
     {
@@ -940,9 +927,8 @@ namespace perideal
     displacement.update_ghost_values();
     ModelState state{cloud, bonds, broken.data(), displacement.begin(), force.begin(), nullptr, *fields};
     std::size_t newly = 0;
-    for (auto &block : blocks)
-      if (block.damage)
-        newly += block.damage->update(state, block.points, broken.data());
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      newly += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, broken.data());
     broken_bond_count += newly;
     return Utilities::MPI::sum(newly, comm);
   }

@@ -368,6 +368,7 @@ namespace perideal
     // Per block: the critical stretch its material applies in its force loop
     // (squared_limit 0: not fused, the damage model runs its own pass).
     std::vector<StretchBreaking> fused_breaking;
+    BondStretchLimits            stretch_limits; // the critical stretch of each bond, across blocks
     std::vector<std::string> warnings;
     double      setup_seconds = 0;
 
