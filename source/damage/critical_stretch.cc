@@ -3,7 +3,11 @@
 // derived from the critical energy release rate G_c of the PMB material:
 //   s_c = sqrt(5 G_c / (9 K delta)).
 // Both owners compute the same s from the same positions, so both halves of
-// a bond break in the same step.
+// a bond break in the same step. Across blocks a bond breaks at the smaller
+// s_c of its two blocks' critical-stretch models; a block without one does
+// not protect its bonds to a block with one, and a bond between two blocks
+// without one never breaks (BondStretchLimits in damage_model.h: the core
+// applies it, so both halves of a bond are decided alike).
 // A material that fuses the test into its first bond pass (PMB, LPS: see
 // Material::fuses_stretch_criterion()) applies exactly this test there, and
 // the core skips update() for its block: one pass over the bonds, not two.
@@ -14,6 +18,7 @@
 
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace perideal
@@ -118,5 +123,87 @@ namespace perideal
   };
 
   PERIDEAL_REGISTER(DamageModel, CriticalStretch, "Critical stretch",
-                    "Bond breaks when its stretch exceeds s_c (given, or from G_c).")
+                    "Bond breaks when its stretch exceeds s_c (given, or from G_c). A bond between "
+                    "two blocks breaks at the smaller s_c of the two blocks' critical-stretch models; "
+                    "a block without damage model does not protect its bonds to one with this model.")
+
+  BondStretchLimits::BondStretchLimits(const std::vector<double> &critical_stretch,
+                                       const PointCloud          &cloud,
+                                       const Bonds               &bonds,
+                                       const MPI_Comm             comm)
+    : n_blocks(critical_stretch.size())
+  {
+    const double never = std::numeric_limits<double>::infinity();
+    pair.assign(n_blocks * n_blocks, never);
+    for (unsigned int a = 0; a < n_blocks; ++a)
+      for (unsigned int b = 0; b < n_blocks; ++b)
+        for (const double sc : {critical_stretch[a], critical_stretch[b]})
+          if (sc > 0)
+            pair[a * n_blocks + b] = std::min(pair[a * n_blocks + b], stretch_squared_limit(sc));
+    // The smallest and largest limit of each block's bonds, over all ranks.
+    std::vector<double> lowest(n_blocks, never), highest(n_blocks, -never);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+        {
+          const unsigned int k     = cloud.block[i];
+          const double       limit = pair[k * n_blocks + cloud.block[bonds.neighbor[b]]];
+          lowest[k]                = std::min(lowest[k], limit);
+          highest[k]               = std::max(highest[k], limit);
+        }
+    Utilities::MPI::min(lowest, comm, lowest);
+    Utilities::MPI::max(highest, comm, highest);
+    common.assign(n_blocks, 0.0);
+    breaking.assign(n_blocks, false);
+    for (unsigned int k = 0; k < n_blocks; ++k)
+      {
+        breaking[k] = lowest[k] < never;
+        if (breaking[k] && lowest[k] == highest[k])
+          common[k] = lowest[k];
+      }
+  }
+
+  namespace
+  {
+    template <bool periodic>
+    std::size_t
+    break_by_pair(const ModelState                &state,
+                  const std::vector<unsigned int> &points,
+                  const double                    *pair,
+                  const unsigned int               n_blocks,
+                  std::uint8_t                    *broken)
+    {
+      const Periodicity    box      = state.cloud.periodicity;
+      const double        *X        = state.cloud.X.data();
+      const double        *u        = state.u;
+      const std::size_t   *offsets  = state.bonds.offsets.data();
+      const unsigned int  *neighbor = state.bonds.neighbor.data();
+      const unsigned short *block   = state.cloud.block.data();
+      std::size_t          n        = 0;
+      for (const unsigned int i : points)
+        {
+          const BondOrigin origin(X, u, i);
+          const double    *limit = pair + block[i] * n_blocks;
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              double e[3], y[3];
+              bond_vectors<periodic>(X, u, neighbor[b], origin, box, e, y);
+              n += break_if_overstretched(y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
+                                          e[0] * e[0] + e[1] * e[1] + e[2] * e[2],
+                                          limit[block[neighbor[b]]],
+                                          broken[b]);
+            }
+        }
+      return n;
+    }
+  } // namespace
+
+  std::size_t
+  BondStretchLimits::update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const
+  {
+    std::size_t n = 0;
+    with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+      n = break_by_pair<decltype(periodic)::value>(state, points, pair.data(), n_blocks, broken);
+    });
+    return n;
+  }
 } // namespace perideal

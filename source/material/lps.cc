@@ -10,6 +10,12 @@
 // with alpha = theta (3K - 5G)/m (ghosted each step) and beta = 15G/m (ghosted
 // once), the neighbor's half uses the neighbor's own moduli and weighted volume.
 // The weighted volume is that of the reference configuration (as Peridigm).
+// Blocks of different horizons (Bonds::family): m_i and theta_i sum over
+// i's own family only, and a bond in one family only carries that end's
+// half: t_ij + t_ji = omega_i [|xi| alpha_i + beta_i e] + omega_j [|xi| alpha_j
+// + beta_j e], omega_i = 0 if j is not in F(i), omega_j = omega(|xi|/delta_j)
+// (the owner's influence function at the other block's horizon) or 0 if i is
+// not in F(j); both ends see the same sum, so the bond acts on both.
 // Surface correction (optional; Le & Bobaru, Comput. Mech. 61, 2018, energy
 // method): under pure shear u = gamma/2 (xi_q e_p + xi_p e_q) the deviatoric
 // energy density of point i is (15 G / 2 m_i) gamma^2 (S2 - S1^2/m_i), the
@@ -97,10 +103,15 @@ namespace perideal
       // family sum (m, theta, force, tangent, stable step) then weighs
       // neighbor j with beta_ij V_j and nothing else changes.
       const bool partial = !state.bonds.volume_fraction.empty();
-      if (partial)
+      // Different horizons: omega per bond and per half (zero where the bond
+      // is not in that end's family), so the kernels need no bit test.
+      halves = !state.bonds.family.empty();
+      if (partial || halves)
         constant_influence = false;
       if (!constant_influence)
         omega.assign(state.bonds.n_bonds(), 0.0);
+      if (halves)
+        omega_other.assign(state.bonds.n_bonds(), 0.0);
       VectorType &m     = state.fields.get("weighted_volume");
       VectorType &beta  = state.fields.get("lps_beta");
       VectorType &gamma = state.fields.get("lps_gamma");
@@ -115,6 +126,13 @@ namespace perideal
               const double       ex = xi[0], ey = xi[1], ez = xi[2];
               const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
               double             w  = omega0;
+              if (halves)
+                {
+                  const double delta_j = state.bonds.block_horizon[state.cloud.block[j]];
+                  omega_other[b] = state.bonds.family[b] & Bonds::other_half ?
+                                     influence->value(Point<dim>(std::min(r0 / delta_j, 1.0), 0, 0), 0) :
+                                     0.0;
+                }
               if (!constant_influence)
                 {
                   // Partial volumes add bonds up to a cell radius beyond the
@@ -126,6 +144,8 @@ namespace perideal
                                          "' is negative or not finite at r = " + std::to_string(r)));
                   if (partial)
                     w *= state.bonds.volume_fraction[b];
+                  if (halves && !(state.bonds.family[b] & Bonds::own_half))
+                    w = 0;
                   omega[b] = w;
                 }
               mi += w * r0 * r0 * V[j];
@@ -223,11 +243,14 @@ namespace perideal
       // Compile-time variants keep the bond loop free of branches.
       with_flag(state.broken != nullptr, [&](auto damage) {
         with_flag(state.energy != nullptr, [&](auto energy) {
-          with_flag(!constant_influence, [&](auto weighted) {
-            with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-              force<decltype(damage)::value, decltype(energy)::value, decltype(weighted)::value,
-                    decltype(periodic)::value>(state, points);
-            });
+          with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+            constexpr bool D = decltype(damage)::value, E = decltype(energy)::value, P = decltype(periodic)::value;
+            if (halves)
+              force<D, E, true, P, true>(state, points);
+            else if (constant_influence)
+              force<D, E, false, P>(state, points);
+            else
+              force<D, E, true, P>(state, points);
           });
         });
       });
@@ -255,6 +278,14 @@ namespace perideal
               const unsigned int j  = state.bonds.neighbor[b];
               const double       r0 = state.cloud.bond_vector(i, j).norm();
               const double       w  = constant_influence ? omega0 : omega[b];
+              if (halves)
+                {
+                  const double w2 = omega_other[b];
+                  pair += (beta.local_element(i) * w + beta.local_element(j) * w2) * V[j];
+                  Ai += w * r0 * V[j];
+                  neighbors += w2 * r0 * V[j] * D.local_element(j);
+                  continue;
+                }
               pair += (beta.local_element(i) + beta.local_element(j)) * w * V[j];
               Ai += w * r0 * V[j];
               neighbors += w * r0 * V[j] * D.local_element(j);
@@ -281,8 +312,11 @@ namespace perideal
       //              f_j through alpha_i:  -q_j, q_j = V_i w |xi| gamma_i M_j  (d f_j / d theta_i)
       // K = -d(V f)/du:  row i:  K_il = -V_i (A_l + c g_l^T),  K_ii = V_i (sum A + c G^T)
       //                  row j:  K_jl =  V_j q_j g_l^T,        K_ji = -V_j q_j G^T
-      // Row j of f_j through theta_i uses bond j->i with the weight of i->j:
-      // families must be symmetric (the solver checks the horizons).
+      // Different horizons: h has a half per end, w_i (i's, over F(i): the
+      // only one theta_i sees) and w_j (j's), so A_j = V_j [(w_i beta_i +
+      // w_j beta_j) M M^T + h (I - M M^T)/|y|], and c, g use w_i. Row j of
+      // f_j through theta_i is bond j->i's other half, whose weight is i->j's
+      // own one: j in F(i) and theta_i's weight for it.
       const double *V     = state.cloud.volume.data();
       const double *u     = state.u;
       const double *m     = state.fields.get("weighted_volume").begin();
@@ -307,11 +341,17 @@ namespace perideal
               const unsigned int j = state.bonds.neighbor[b];
               cols[k + 1]          = j;
               double w             = constant_influence ? omega0 : omega[b];
+              double w2            = halves ? omega_other[b] : 0.0;
               if (state.broken)
-                w *= 1.0 - state.broken[b];
+                {
+                  w *= 1.0 - state.broken[b];
+                  w2 *= 1.0 - state.broken[b];
+                }
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
-              const double h     = w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * (r - r0));
+              const double h     = halves ? w * (r0 * alpha[i] + beta[i] * (r - r0)) + w2 * (r0 * alpha[j] + beta[j] * (r - r0)) :
+                                            w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * (r - r0));
+              const double w_beta = halves ? w * beta[i] + w2 * beta[j] : w * (beta[i] + beta[j]);
               w_r0[k]            = w * r0;
               for (unsigned int d = 0; d < 3; ++d)
                 {
@@ -324,7 +364,7 @@ namespace perideal
                 for (unsigned int q = 0; q < 3; ++q)
                   {
                     const double MM = M[3 * k + p] * M[3 * k + q];
-                    const double A  = V[i] * V[j] * (w * (beta[i] + beta[j]) * MM + h * ((p == q) - MM) / r);
+                    const double A  = V[i] * V[j] * (w_beta * MM + h * ((p == q) - MM) / r);
                     blocks[9 * (k + 1) + 3 * p + q] = -A;
                     blocks[3 * p + q] += A;
                   }
@@ -370,6 +410,8 @@ namespace perideal
     bool                        constant_influence = true;
     double                      omega0             = 1;
     std::vector<double>         omega; // per bond, only for a non-constant influence function
+    std::vector<double>         omega_other; // per bond, the other end's half: only with Bonds::family
+    bool                        halves = false; // Bonds::family is set: omega and omega_other hold the halves
     bool                        energy_weighted = false; // weight_energy() scaled the fields
     bool                        surface_correction = false;
 
@@ -421,7 +463,7 @@ namespace perideal
         state.breaking->newly_broken += newly_broken;
     }
 
-    template <bool damage, bool energy, bool weighted, bool periodic>
+    template <bool damage, bool energy, bool weighted, bool periodic, bool two_halves = false>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const
     {
@@ -433,6 +475,7 @@ namespace perideal
       const unsigned int *neighbor = state.bonds.neighbor.data();
       const std::uint8_t *broken   = state.broken;
       const double       *w_bond   = omega.data();
+      const double       *w_other  = omega_other.data();
       const double       *alpha    = state.fields.get("lps_alpha").begin();
       const double       *beta     = state.fields.get("lps_beta").begin();
       const double       *theta    = state.fields.get("dilatation").begin();
@@ -456,9 +499,14 @@ namespace perideal
               const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
               const double       e  = r - r0;
               double             w  = weighted ? w_bond[b] : omega0;
+              double             w2 = two_halves ? w_other[b] : 0.0;
               if (damage)
-                w *= 1.0 - broken[b];
-              const double t = w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e);
+                {
+                  w *= 1.0 - broken[b];
+                  w2 *= 1.0 - broken[b];
+                }
+              const double t = two_halves ? w * (r0 * ai + bi * e) + w2 * (r0 * alpha[j] + beta[j] * e) :
+                                            w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e);
               const double k = t * V[j] / r;
               fx += k * dx;
               fy += k * dy;

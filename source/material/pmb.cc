@@ -4,7 +4,11 @@
 //   c = 18 K / (pi delta^4),  M = (y_j - y_i) / |y_j - y_i|.
 // Poisson's ratio is 1/4 by construction, so G = 3K/5.
 // Across blocks with different micromoduli the bond uses (c_i + c_j)/2, so
-// action equals reaction. With partial volumes V_j is beta_ij V_j.
+// action equals reaction. Across different horizons a bond may be in one
+// family only (Bonds::family): each end contributes its half where the bond
+// is in its family, c = (h_i c_i + h_j c_j)/2, h = 1 if in that family; both
+// ends see the same c, so the bond still acts on both. With partial volumes
+// V_j is beta_ij V_j.
 // Surface correction (optional): a point whose family is cut by a free
 // surface (or whose lattice sum misses the sphere's integral) is too soft.
 // The energy method of Le & Bobaru (Comput. Mech. 61, 2018) with an
@@ -80,7 +84,10 @@ namespace perideal
         return;
       for (const unsigned int i : points)
         {
-          const double sum = family_sum(state, i, [&](unsigned int, const double r0, const double Vj) { return r0 * Vj; });
+          // Over the point's own family.
+          const double sum = family_sum(state, i, [&](std::size_t b, unsigned int, const double r0, const double Vj) {
+            return state.bonds.own(b) * r0 * Vj;
+          });
           if (sum > 0)
             c.local_element(i) *= M_PI * std::pow(horizon, 4) / sum;
         }
@@ -135,8 +142,8 @@ namespace perideal
       double            dt = std::numeric_limits<double>::max();
       for (const unsigned int i : points)
         {
-          const double sum = family_sum(state, i, [&](const unsigned int j, const double r0, const double Vj) {
-            return Vj * 0.5 * (c.local_element(i) + c.local_element(j)) / r0;
+          const double sum = family_sum(state, i, [&](std::size_t b, const unsigned int j, const double r0, const double Vj) {
+            return Vj * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) / r0;
           });
           if (sum > 0)
             dt = std::min(dt, std::sqrt(2 * rho / sum));
@@ -177,7 +184,8 @@ namespace perideal
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
               const double s     = (r - r0) / r0;
-              const double cv = 0.5 * (c.local_element(i) + c.local_element(j)) * V[j] * state.bonds.fraction(b) * V[i];
+              const double cv = bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) * V[j] *
+                                state.bonds.fraction(b) * V[i];
               for (unsigned int p = 0; p < 3; ++p)
                 for (unsigned int q = 0; q < 3; ++q)
                   {
@@ -196,8 +204,8 @@ namespace perideal
     double rho = 0, K = 0;
     bool   surface_correction = false;
 
-    /// sum over the bonds of owned point @p i of f(j, |xi_ij|, beta_ij V_j)
-    /// (set-up loops).
+    /// sum over the bonds b = i->j of owned point @p i of f(b, j, |xi_ij|,
+    /// beta_ij V_j) (set-up loops).
     template <typename Function>
     static double
     family_sum(const ModelState &state, const unsigned int i, const Function &f)
@@ -206,9 +214,20 @@ namespace perideal
       for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
         {
           const unsigned int j = state.bonds.neighbor[b];
-          sum += f(j, state.cloud.bond_vector(i, j).norm(), state.cloud.volume[j] * state.bonds.fraction(b));
+          sum += f(b, j, state.cloud.bond_vector(i, j).norm(), state.cloud.volume[j] * state.bonds.fraction(b));
         }
       return sum;
+    }
+
+    /// c of bond @p b between micromoduli @p ci and @p cj: each end's half
+    /// where the bond is in its family (set-up and tangent).
+    static double
+    bond_micromodulus(const Bonds &bonds, const std::size_t b, const double ci, const double cj)
+    {
+      if (bonds.family.empty())
+        return 0.5 * (ci + cj);
+      const std::uint8_t h = bonds.family[b];
+      return 0.5 * ((h & Bonds::own_half ? ci : 0.0) + (h & Bonds::other_half ? cj : 0.0));
     }
 
     bool
@@ -238,6 +257,9 @@ namespace perideal
         if (!state.bonds.volume_fraction.empty())
           state.energy ? kernel<false, mode, true, true, P>(state, points, c) :
                          kernel<false, mode, false, true, P>(state, points, c);
+        else if (!state.bonds.family.empty())
+          state.energy ? kernel<false, mode, true, false, P, true>(state, points, c) :
+                         kernel<false, mode, false, false, P, true>(state, points, c);
         else if (uniform)
           state.energy ? kernel<true, mode, true, false, P>(state, points, c) :
                          kernel<true, mode, false, false, P>(state, points, c);
@@ -247,7 +269,9 @@ namespace perideal
       });
     }
 
-    template <bool uniform_c, BondDamage mode, bool energy, bool partial, bool periodic>
+    /// halves: blocks of different horizons (Bonds::family), never with
+    /// partial volumes (their bonds are in both families).
+    template <bool uniform_c, BondDamage mode, bool energy, bool partial, bool periodic, bool halves = false>
     void
     kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
     {
@@ -264,6 +288,7 @@ namespace perideal
       const double       *c      = c_field.begin();
       const double        c_own  = micromodulus();
       const float        *beta   = state.bonds.volume_fraction.data();
+      const std::uint8_t *family = state.bonds.family.data();
       double             *f      = state.force;
       std::size_t         newly_broken = 0;
 
@@ -285,7 +310,10 @@ namespace perideal
               const double r0     = std::sqrt(r0sq);
               const double r      = std::sqrt(rsq);
               const double s      = (r - r0) / r0;
-              const double cij    = uniform_c ? c_own : 0.5 * (c[i] + c[j]);
+              const double cij    = uniform_c ? c_own :
+                                    halves    ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
+                                                    (family[b] & Bonds::other_half ? c[j] : 0.0)) :
+                                                0.5 * (c[i] + c[j]);
               const double intact = mode == BondDamage::none ? 1.0 : 1.0 - damage[b];
               const double Vj     = partial ? beta[b] * V[j] : V[j];
               const double k      = intact * cij * s * Vj / r;

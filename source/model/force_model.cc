@@ -48,7 +48,7 @@ namespace perideal
       std::vector<std::string> model(blocks.size());
       for (unsigned int b = 0; b < blocks.size(); ++b)
         model[b] = typeid(*blocks[b].material).name();
-      bool mixed = false, mixed_damage = false;
+      bool mixed = false;
       std::pair<unsigned int, unsigned int> pair{0, 0};
       for (unsigned int i = 0; i < cloud.n_owned(); ++i)
         for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
@@ -56,8 +56,6 @@ namespace perideal
             const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
             if (bi != bj && model[bi] != model[bj])
               mixed = true, pair = {bi, bj};
-            if (bi != bj && blocks[bi].damage_name != blocks[bj].damage_name)
-              mixed_damage = true;
           }
       const unsigned int any = Utilities::MPI::max(mixed ? 1u : 0u, comm);
       AssertThrow(any == 0,
@@ -66,9 +64,6 @@ namespace perideal
                              "material models; bonds between models are not defined: use the same "
                              "model with different parameters, or separate the blocks by more than "
                              "a horizon"));
-      if (Utilities::MPI::max(mixed_damage ? 1u : 0u, comm))
-        record.warnings.push_back("bonds join blocks with different damage models; each half of such a "
-                           "bond is decided by its own block's model");
     }
 
     bool any_damage = false;
@@ -99,18 +94,21 @@ namespace perideal
         if (blocks[b].damage)
           blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
         fused_breaking.emplace_back();
-        if (blocks[b].damage && blocks[b].damage->critical_stretch() > 0 &&
-            blocks[b].material->fuses_stretch_criterion())
-          {
-            fused_breaking.back().squared_limit =
-              stretch_squared_limit(blocks[b].damage->critical_stretch());
-            fused_breaking.back().broken = broken.data();
-          }
         for (const auto &f : blocks[b].material->constant_fields())
           constant.insert(f);
         for (const auto &f : blocks[b].material->stage_fields())
           stage.insert(f);
       }
+    {
+      std::vector<double> critical_stretch(blocks.size(), 0.0);
+      for (unsigned int b = 0; b < blocks.size(); ++b)
+        if (blocks[b].damage)
+          critical_stretch[b] = blocks[b].damage->critical_stretch();
+      stretch_limits = BondStretchLimits(critical_stretch, cloud, bonds, comm);
+      for (unsigned int b = 0; b < blocks.size(); ++b)
+        if (stretch_limits.common_limit(b) > 0 && blocks[b].material->fuses_stretch_criterion())
+          fused_breaking[b] = {stretch_limits.common_limit(b), broken.data(), 0};
+    }
     for (const auto &f : constant)
       fields->get(f).update_ghost_values();
     for (const auto &f : stage)
@@ -160,8 +158,9 @@ namespace perideal
       {
         TimerOutput::Scope t(timer, "damage");
         for (unsigned int k = 0; k < blocks.size(); ++k)
-          if (blocks[k].damage && fused_breaking[k].squared_limit == 0)
-            broken_bond_count += blocks[k].damage->update(state, blocks[k].points, broken.data());
+          if (fused_breaking[k].squared_limit == 0)
+            broken_bond_count +=
+              damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, broken.data());
       }
     {
       TimerOutput::Scope t(timer, "force");
@@ -240,7 +239,8 @@ namespace perideal
     double all = 0, intact = 0;
     for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
       {
-        const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b);
+        // Over the point's own family (Bonds::family).
+        const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b) * bonds.own(b);
         all += V;
         intact += broken[b] ? 0 : V;
       }
@@ -318,9 +318,8 @@ namespace perideal
     mechanical.displacement.update_ghost_values();
     ModelState state{cloud, bonds, broken.data(), mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
     std::size_t newly = 0;
-    for (auto &block : blocks)
-      if (block.damage)
-        newly += block.damage->update(state, block.points, broken.data());
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      newly += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, broken.data());
     broken_bond_count += newly;
     return Utilities::MPI::sum(newly, comm);
   }

@@ -40,7 +40,19 @@ namespace perideal
         expected += std::min(4.19 * reach * reach * reach / cloud.volume[i], double(n_local) / 1.1);
       }
 
+    // A bond joins i and j if either family holds the other: within the
+    // larger of the two horizons (the same number on both sides).
+    std::vector<double> block_reach(block_horizon.size());
+    double              largest_reach = 0;
+    for (unsigned int b = 0; b < block_horizon.size(); ++b)
+      {
+        block_reach[b] = block_horizon[b] * (1 + horizon_tolerance) + extra_reach;
+        largest_reach  = std::max(largest_reach, block_reach[b]);
+      }
+    bool different_horizons = false; // a stored bond joins different horizons
+
     Bonds bonds;
+    bonds.block_horizon = block_horizon;
     bonds.offsets.resize(n_owned + 1);
     bonds.neighbor.reserve(static_cast<std::size_t>(expected * 1.1) + 16);
     std::vector<bool>         used(n_local, false);
@@ -73,8 +85,10 @@ namespace perideal
     for (unsigned int i = 0; i < n_owned; ++i)
       {
         bonds.offsets[i]    = bonds.neighbor.size();
-        const double     delta = block_horizon[cloud.block[i]];
-        const double     reach = delta * (1 + horizon_tolerance) + extra_reach;
+        const double     delta   = block_horizon[cloud.block[i]];
+        const double     reach_i = block_reach[cloud.block[i]];
+        // Search as far as any family that may hold i reaches.
+        const double     reach = largest_reach;
         const Point<dim> x     = points[i];
         // Coincident: closer than a millionth of the point's own cell size
         // (not of the horizon, which may be far larger than the cells).
@@ -110,9 +124,12 @@ namespace perideal
             double e[3] = {points[j][0] - x[0], points[j][1] - x[1], points[j][2] - x[2]};
             if (wrap)
               periodic.wrap(e[0], e[1], e[2]);
-            const double r2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-            if (r2 <= reach * reach)
+            const double r2      = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+            const double reach_j = block_reach[cloud.block[j]];
+            const double reach_ij = std::max(reach_i, reach_j);
+            if (r2 <= reach_ij * reach_ij)
               {
+                different_horizons |= reach_j != reach_i;
                 if (std::sqrt(r2) <= same_place && coincident++ == 0)
                   first_coincident = x;
                 bonds.neighbor.push_back(j);
@@ -126,6 +143,25 @@ namespace perideal
                   });
       }
     bonds.offsets[n_owned] = bonds.neighbor.size();
+    // Which halves are real: j in F(i) and i in F(j), by the same test as
+    // above. Set on every rank if any has such a bond, so that every rank
+    // runs the same kernels (1 and N ranks agree bit for bit).
+    if (Utilities::MPI::max(different_horizons ? 1u : 0u, comm))
+      {
+        bonds.family.resize(bonds.n_bonds());
+        for (unsigned int i = 0; i < n_owned; ++i)
+          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+            {
+              const unsigned int j    = bonds.neighbor[b];
+              double             e[3] = {points[j][0] - points[i][0], points[j][1] - points[i][1],
+                                         points[j][2] - points[i][2]};
+              if (wrap)
+                periodic.wrap(e[0], e[1], e[2]);
+              const double r2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+              const double ri = block_reach[cloud.block[i]], rj = block_reach[cloud.block[j]];
+              bonds.family[b] = (r2 <= ri * ri ? Bonds::own_half : 0) | (r2 <= rj * rj ? Bonds::other_half : 0);
+            }
+      }
     const unsigned int n_coincident = Utilities::MPI::sum(coincident, comm);
     if (n_coincident > 0)
       {

@@ -242,6 +242,10 @@ namespace perideal
             }
           bonds.volume_fraction[b] = static_cast<float>(std::min(1.0, beta));
         }
+    // beta_ij is the mean of both balls' shares, the same number for i->j
+    // and j->i: every bond kept is one symmetric bond, in both families.
+    bonds.family.clear();
+    bonds.family.shrink_to_fit();
     bonds.keep_if_bond(cloud.n_owned(), [&](unsigned int, const std::size_t b) { return bonds.volume_fraction[b] > 0; });
   }
 } // namespace perideal

@@ -289,7 +289,7 @@ namespace perideal
     // What this run holds, by part (all ranks).
     const double bond_bytes = bonds.neighbor.capacity() * sizeof(unsigned int) +
                               bonds.offsets.capacity() * sizeof(std::size_t) + model.broken.capacity() +
-                              bonds.volume_fraction.capacity() * sizeof(float);
+                              bonds.volume_fraction.capacity() * sizeof(float) + bonds.family.capacity();
     const double point_bytes =
       cloud.X.capacity() * sizeof(double) + cloud.volume.capacity() * sizeof(double) +
       cloud.block.capacity() * sizeof(unsigned short) + cloud.key.capacity() * sizeof(PointKey) +

@@ -40,19 +40,6 @@ namespace perideal
     for (const auto &b : access.model.blocks)
       hops = std::max(hops, b.material->coupling_hops());
 
-    // The 2-hop tangent assumes j in F(i) exactly when i in F(j).
-    if (hops == 2)
-      {
-        unsigned int asymmetric = 0;
-        for (unsigned int i = 0; i < cloud.n_owned() && !asymmetric; ++i)
-          for (std::size_t b = access.discretization.bonds.offsets[i]; b < access.discretization.bonds.offsets[i + 1]; ++b)
-            if (access.model.blocks[cloud.block[i]].horizon != access.model.blocks[cloud.block[access.discretization.bonds.neighbor[b]]].horizon)
-              asymmetric = 1;
-        AssertThrow(Utilities::MPI::max(asymmetric, comm) == 0,
-                    ExcMessage("the quasistatic solver with a state-based material (LPS) needs bonded "
-                               "blocks to share one horizon (Blocks/*/Horizon)"));
-      }
-
     // Which local degrees of freedom are prescribed (ghosts from their owners).
     const unsigned int n_owned = cloud.n_owned();
     {

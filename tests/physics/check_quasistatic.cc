@@ -10,6 +10,7 @@
 //                     [--energy-fraction NAME MIN MAX]...
 //
 // - NAME=VALUE: the column NAME of the CSV row of step S: |value - VALUE| <= T X;
+//   NAME may be a sum of columns, A+B (e.g. the reactions of two supports);
 // - --stdout: every solve converges in at most N Newton iterations, and for
 //   every Newton iteration k >= 2 whose residual r_k is above the round-off
 //   floor (1e-13 x r_0 of its solve) the order
@@ -315,10 +316,17 @@ main(int argc, char *argv[])
               const auto        eq       = arg.find('=');
               const std::string name     = arg.substr(0, eq);
               const double      expected = std::atof(arg.substr(eq + 1).c_str());
-              if (!row.count(name))
-                throw std::runtime_error("no column " + name);
-              std::cout << std::setprecision(10) << name << " = " << row.at(name) << " (expected " << expected << ")\n";
-              const double error = std::abs(row.at(name) - expected) / scale;
+              double            value    = 0;
+              for (std::size_t begin = 0, end; begin <= name.size(); begin = end + 1)
+                {
+                  end                      = std::min(name.find('+', begin), name.size());
+                  const std::string column = name.substr(begin, end - begin);
+                  if (!row.count(column))
+                    throw std::runtime_error("no column " + column);
+                  value += row.at(column);
+                }
+              std::cout << std::setprecision(10) << name << " = " << value << " (expected " << expected << ")\n";
+              const double error = std::abs(value - expected) / scale;
               check("  |" + name + " - expected| / scale", error, error <= tol, "<= " + str(tol));
             }
         }

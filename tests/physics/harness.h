@@ -4,7 +4,9 @@
 // displacement field and read the force density, dilatation and energy
 // density of every owned point. It evaluates the material the way the core
 // does: initialize, ghost the constant fields, compute_stage, ghost the stage
-// fields, compute_force.
+// fields, compute_force. With a second block (SecondBlock: the points with x
+// beyond a plane, their own horizon and a second instance of the material)
+// the blocks' horizons differ and the bonds carry Bonds::family.
 
 #include <perideal/base/input.h>
 #include <perideal/discretization/point_cloud.h>
@@ -45,6 +47,13 @@ namespace pdtest
     std::map<std::string, std::string> keys; // e.g. {"Bulk modulus", "1"}
   };
 
+  /// The points with x > @p from_x form block 1, with horizon @p horizon.
+  struct SecondBlock
+  {
+    double from_x  = std::numeric_limits<double>::infinity();
+    double horizon = 0;
+  };
+
   class Harness
   {
   public:
@@ -56,7 +65,8 @@ namespace pdtest
             const MaterialSpec                &spec,
             const std::function<double(const Point<3> &)> &energy_weight = {},
             const bool                                     partial_volumes = false,
-            const std::array<bool, 3>                     &periodic        = {{false, false, false}})
+            const std::array<bool, 3>                     &periodic        = {{false, false, false}},
+            const SecondBlock                             &second          = {})
       : comm(comm)
       , horizon(horizon)
       , triangulation(comm)
@@ -74,28 +84,38 @@ namespace pdtest
       dof_handler.distribute_dofs(fe);
       cloud.periodicity = scene.periodicity(triangulation);
 
-      cloud.build(dof_handler, [](const perideal::CellIterator &) { return 0; }, horizon, comm, {},
-                  partial_volumes);
-      bonds = perideal::find_families(cloud, {horizon}, comm, cloud.max_cell_radius);
+      const bool                two_blocks = second.horizon > 0;
+      const std::vector<double> horizons   = two_blocks ? std::vector<double>{horizon, second.horizon} :
+                                                          std::vector<double>{horizon};
+      cloud.build(dof_handler,
+                  [&](const perideal::CellIterator &cell) { return cell->center()[0] > second.from_x ? 1 : 0; },
+                  std::max(horizon, second.horizon), comm, {}, partial_volumes);
+      bonds = perideal::find_families(cloud, horizons, comm, cloud.max_cell_radius);
       if (partial_volumes)
-        perideal::compute_partial_volumes(cloud, bonds, {horizon});
+        perideal::compute_partial_volumes(cloud, bonds, horizons);
       fields = std::make_unique<perideal::FieldStore>(cloud);
       u.reinit(cloud.vector_partitioner);
       force.reinit(cloud.vector_partitioner);
       energy.assign(cloud.n_owned(), 0.0);
       points.resize(cloud.n_owned());
       std::iota(points.begin(), points.end(), 0u);
+      block_points.resize(horizons.size());
+      for (const unsigned int i : points)
+        block_points[cloud.block[i]].push_back(i);
 
-      ParameterHandler prm;
-      const auto      &entry = perideal::Registry<perideal::Material>::instance().get(spec.model, "test");
-      entry.declare(prm);
-      for (const auto &[key, value] : spec.keys)
-        prm.set(key, value);
-      material = entry.create();
-      material->parse_parameters(prm, "test material");
-      material->set_block(0, horizon);
-
-      material->initialize(state(false), points);
+      for (unsigned int b = 0; b < horizons.size(); ++b)
+        {
+          ParameterHandler prm;
+          const auto &entry = perideal::Registry<perideal::Material>::instance().get(spec.model, "test");
+          entry.declare(prm);
+          for (const auto &[key, value] : spec.keys)
+            prm.set(key, value);
+          materials.push_back(entry.create());
+          materials.back()->parse_parameters(prm, "test material");
+          materials.back()->set_block(b, horizons[b]);
+          materials.back()->initialize(state(false), block_points[b]);
+        }
+      material = materials[0].get();
       if (energy_weight)
         {
           std::vector<double> w(cloud.n_local(), 0.0);
@@ -151,10 +171,23 @@ namespace pdtest
       std::fill(force.begin(), force.begin() + 3 * cloud.n_owned(), 0.0);
       std::fill(energy.begin(), energy.end(), 0.0);
       const auto s = state(with_energy);
-      material->compute_stage(s, points);
+      for (unsigned int b = 0; b < materials.size(); ++b)
+        materials[b]->compute_stage(s, block_points[b]);
       for (const auto &f : material->stage_fields())
         fields->get(f).update_ghost_values();
-      material->compute_force(s, points);
+      for (unsigned int b = 0; b < materials.size(); ++b)
+        materials[b]->compute_force(s, block_points[b]);
+    }
+
+    /// The analytic tangent of every block into @p rows; false if a
+    /// material has none.
+    bool
+    add_tangent(perideal::TangentRows &rows)
+    {
+      bool has = true;
+      for (unsigned int b = 0; b < materials.size(); ++b)
+        has &= materials[b]->add_tangent(state(false), block_points[b], rows);
+      return has;
     }
 
     Tensor<1, 3>
@@ -186,7 +219,10 @@ namespace pdtest
     double
     stable_time_step()
     {
-      return Utilities::MPI::min(material->stable_time_step(state(false), points), comm);
+      double dt = std::numeric_limits<double>::max();
+      for (unsigned int b = 0; b < materials.size(); ++b)
+        dt = std::min(dt, materials[b]->stable_time_step(state(false), block_points[b]));
+      return Utilities::MPI::min(dt, comm);
     }
 
     MPI_Comm                                          comm;
@@ -197,7 +233,9 @@ namespace pdtest
     perideal::PointCloud                              cloud;
     perideal::Bonds                                   bonds;
     std::unique_ptr<perideal::FieldStore>             fields;
-    std::unique_ptr<perideal::Material>               material;
+    std::vector<std::unique_ptr<perideal::Material>>  materials; // by block
+    perideal::Material                               *material; // block 0's
+    std::vector<std::vector<unsigned int>>            block_points;
     perideal::VectorType                              u, force;
     std::vector<double>                               energy;
     std::vector<unsigned int>                         points;

@@ -5,7 +5,9 @@
 //
 // Bond i->j and j->i are separate entries, each decided by its owner: a model
 // must decide from data both owners have (positions of both points), so the
-// two halves agree. A new model is one file in source/damage/ with
+// two halves agree. Critical stretches are applied by the core with one rule
+// across blocks (BondStretchLimits): a bond between blocks A and B breaks at
+// the smaller critical stretch of those of A and B that have one. A new model is one file in source/damage/ with
 // PERIDEAL_REGISTER(DamageModel, ClassName, "Name", "documentation").
 
 #include <perideal/base/input.h>
@@ -49,6 +51,76 @@ namespace perideal
   stretch_squared_limit(const double critical_stretch)
   {
     return (1 + critical_stretch) * (1 + critical_stretch);
+  }
+
+  /**
+   * The critical stretch of every bond, across blocks too: a bond between
+   * blocks A and B (A = B within a block) breaks for good when its stretch
+   * exceeds the smaller s_c of those of A and B whose damage model is a
+   * critical stretch (DamageModel::critical_stretch() > 0). A block without
+   * one does not protect its bonds to a block with one; a bond between two
+   * blocks without one never breaks. The limit depends on the two blocks
+   * only, and both owners test the same lengths (bond_vectors()), so i->j
+   * and j->i break in the same evaluation.
+   *
+   * A block all of whose bonds share one limit (the common case: one s_c
+   * everywhere) gets it as common_limit(), which a material may fuse into
+   * its bond loop at no cost per bond; the others take update(), a pass that
+   * looks the limit up per bond.
+   */
+  class BondStretchLimits
+  {
+  public:
+    BondStretchLimits() = default;
+
+    /// @p critical_stretch: by block, 0 where the block has no critical
+    /// stretch. Collective.
+    BondStretchLimits(const std::vector<double> &critical_stretch,
+                      const PointCloud          &cloud,
+                      const Bonds               &bonds,
+                      const MPI_Comm             comm);
+
+    /// (1 + s_c)^2 of every bond of block @p k's points if they share one
+    /// (on every rank), else 0.
+    double
+    common_limit(const unsigned int k) const
+    {
+      return common.empty() ? 0.0 : common[k];
+    }
+
+    /// True if some bond of block @p k's points may break.
+    bool
+    may_break(const unsigned int k) const
+    {
+      return !breaking.empty() && breaking[k];
+    }
+
+    /// Breaks the bonds of @p points stretched beyond their limit: the pass
+    /// for a block without common_limit(). Returns how many broke.
+    std::size_t
+    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const;
+
+  private:
+    unsigned int        n_blocks = 0;
+    std::vector<double> pair;     // (1 + s_c)^2 by block pair a * n_blocks + b; +infinity: never
+    std::vector<double> common;   // by block
+    std::vector<bool>   breaking; // by block
+  };
+
+  /// The damage pass of block @p k outside a material's bond loop: its own
+  /// model's update() if that is not a critical stretch (@p model may be
+  /// null), else @p limits' pass if some bond of the block may break.
+  inline std::size_t
+  damage_pass(const DamageModel               *model,
+              const BondStretchLimits         &limits,
+              const unsigned int               k,
+              const ModelState                &state,
+              const std::vector<unsigned int> &points,
+              std::uint8_t                    *broken)
+  {
+    if (model && model->critical_stretch() == 0)
+      return model->update(state, points, broken);
+    return limits.may_break(k) ? limits.update(state, points, broken) : 0;
   }
 
   void

@@ -6,6 +6,7 @@
 // conditions' body force and the coupling's transfer to the FE nodes.
 
 #include <perideal/discretization/discretization.h>
+#include <perideal/damage/damage_model.h>
 #include <perideal/material/material.h>
 #include <perideal/model/block.h>
 #include <perideal/solver/state.h>
@@ -101,8 +102,9 @@ namespace perideal
     std::unique_ptr<FieldStore> fields;
     std::vector<std::string>    ghosted_stage_fields;
     // Per block: the critical stretch its material applies in its force loop
-    // (squared_limit 0: not fused, the damage model runs its own pass).
+    // (squared_limit 0: not fused, damage_pass() runs its own pass).
     std::vector<StretchBreaking> fused_breaking;
+    BondStretchLimits            stretch_limits; // the critical stretch of each bond, across blocks
     const std::vector<double>   *body_force = nullptr;
     Coupling                    *coupling   = nullptr;
   };

@@ -2,6 +2,11 @@
 // Bond families in flat CSR form over the owned points: the bonds of owned
 // point i are neighbor[offsets[i] .. offsets[i+1]), local point indices.
 // Bond i->j and j->i are separate entries, each evaluated by its owner.
+// Point i's family F(i) is the points within ITS horizon; with blocks of
+// different horizons j may be in F(i) while i is not in F(j). A bond still
+// acts on both ends (Peridigm), so the owner stores the union: j with j in
+// F(i) or i in F(j), and `family` says which halves of each entry are real
+// (see there). The union is symmetric, so i holds j exactly when j holds i.
 // Each family is sorted by the neighbors' rank-independent keys, so sums over
 // a family run in the same order on any number of ranks and a run gives the
 // same numbers on 1 and on N ranks.
@@ -17,6 +22,23 @@ namespace perideal
   {
     std::vector<std::size_t>  offsets;  // n_owned + 1
     std::vector<unsigned int> neighbor; // local point index, one per bond
+
+    /// Only when blocks of different horizons are bonded (empty otherwise,
+    /// and every entry is in both families): per bond i->j, bit own_half if
+    /// j is in F(i) (i's state sums over it and i's half of the bond acts),
+    /// bit other_half if i is in F(j) (j's half acts on i). Kernels branch on
+    /// family.empty() once, at compile time.
+    std::vector<std::uint8_t> family;
+    static constexpr std::uint8_t own_half = 1, other_half = 2;
+    /// The horizon of each block, as find_families() used them.
+    std::vector<double> block_horizon;
+
+    /// 1 if bond @p b is in its owner's family, else 0 (set-up and reporting).
+    double
+    own(const std::size_t b) const
+    {
+      return family.empty() || (family[b] & own_half) ? 1.0 : 0.0;
+    }
 
     std::size_t
     n_bonds() const
@@ -50,7 +72,7 @@ namespace perideal
     void
     keep_if_bond(const unsigned int n_owned, const Keep &keep)
     {
-      const bool  fractions = !volume_fraction.empty();
+      const bool  fractions = !volume_fraction.empty(), halves = !family.empty();
       std::size_t kept      = 0;
       for (unsigned int i = 0; i < n_owned; ++i)
         {
@@ -61,6 +83,8 @@ namespace perideal
               {
                 if (fractions)
                   volume_fraction[kept] = volume_fraction[b];
+                if (halves)
+                  family[kept] = family[b];
                 neighbor[kept++] = neighbor[b];
               }
         }
@@ -72,6 +96,11 @@ namespace perideal
           volume_fraction.resize(kept);
           volume_fraction.shrink_to_fit();
         }
+      if (halves)
+        {
+          family.resize(kept);
+          family.shrink_to_fit();
+        }
     }
   };
 
@@ -79,11 +108,13 @@ namespace perideal
   constexpr double horizon_tolerance = 1e-9;
 
   /**
-   * Finds the family of every owned point in the reference configuration
+   * Finds the bonds of every owned point in the reference configuration
    * (R-tree over owned points and ghost candidates; point i's family is every
    * other point within horizon[block[i]] + @p extra_reach: the largest cell
-   * radius when partial volumes follow), drops the ghost candidates no
-   * family uses and renumbers @p cloud. Collective.
+   * radius when partial volumes follow; i stores the union of F(i) and the
+   * points whose family holds i, and sets Bonds::family if some stored bond
+   * joins different horizons on any rank), drops the ghost candidates no
+   * bond uses and renumbers @p cloud. Collective.
    */
   Bonds
   find_families(PointCloud                &cloud,
