@@ -4,7 +4,10 @@
 // displacement field and read the force density, dilatation and energy
 // density of every owned point. It evaluates the material the way the core
 // does: initialize, ghost the constant fields, compute_stage, ghost the stage
-// fields, compute_force.
+// fields, compute_force. Its Report prints the lines of the suite's checker
+// library (tests/tools/check.h) on rank 0.
+
+#include "../tools/check.h"
 
 #include <perideal/base/input.h>
 #include <perideal/discretization/point_cloud.h>
@@ -283,10 +286,7 @@ namespace pdtest
     void
     check(const std::string &name, const double value, const bool ok, const std::string &bound)
     {
-      std::ostringstream o;
-      o << std::setprecision(6) << name << " = " << value << "  (" << bound << ")  "
-        << (ok ? "PASS" : "FAIL");
-      line(o.str());
+      line(check_common::check_line(name, value, ok, bound, 6));
       if (!ok)
         ++failures;
     }
@@ -314,7 +314,7 @@ namespace pdtest
     int
     finish()
     {
-      line(failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED");
+      line(check_common::verdict(failures));
       return failures == 0 ? 0 : 1;
     }
 
