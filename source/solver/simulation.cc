@@ -327,6 +327,7 @@ namespace perideal
     ParameterHandler prm;
     declare_parameters(prm, names);
     parse_input_file(prm, file, true);
+    output.keep_parameters(prm); // written with the output: the run's full parameter set
 
     prm.enter_subsection("Discretization");
     scene.parse_parameters(prm);
