@@ -22,7 +22,8 @@ Usage:
         PD solution of that delta)
   for one or more variants (--variant; models, influence functions, surface
   correction, partial volumes; `--list` shows them). A variant or --set key
-  that pd_app does not know (--print-parameters) is reported and skipped.
+  that pd_app does not know (--print-parameters) is reported and skipped
+  (with --check: and counted as a failed check).
   Errors are taken against the classical answer and, where the scene has a
   closed form, against the nonlocal continuum PD answer of the same delta
   (*_PD columns); the plot shows the latter for sequence b.
@@ -772,7 +773,9 @@ def check(scene, rows, label, requested):
         elif what.startswith("same:"):
             _, other, name = what.split(":")
             o = [q for q in rows if q["series"] == "%s-%s%s" % (seq, other, sfx)]
-            if len(o) <= index:
+            if len(o) <= index:  # the variant compared with was not run: not a pass
+                print("check %s res #%d: %s  FAIL  (%s not run)" % (series, index, what, other))
+                failures += 1
                 continue
             v = r[name] / o[index][name] - 1
         else:
@@ -828,7 +831,8 @@ def main():
         if v not in scene.variants:
             raise SystemExit("pd_study: unknown variant '%s' of %s (--list)" % (v, scene.name))
     # Variants and --set keys pd_app does not know yet are reported and skipped
-    # (e.g. partial volumes while they are being added), not failed.
+    # (e.g. partial volumes while they are being added), not failed; under
+    # --check (the ctest verification tests) each counts as a failure.
     lock = open(args.lock, "a") if args.lock else None
     if lock:
         fcntl.flock(lock, fcntl.LOCK_SH)
@@ -846,6 +850,8 @@ def main():
             missing = [a for a in scene.variants[v][0] + args.set if not a.startswith("@") and not key_known(a)]
             if missing:
                 print("pd_study: %s %s skipped: pd_app has no parameter %s" % (seq, v, ", ".join(missing)))
+                # A check (ctest) must not pass on what it did not run.
+                failures += bool(args.check)
                 continue
             for case in cases(args, scene, seq, v):
                 results = [run_case(args, scene, case, n) for n in nps]

@@ -10,6 +10,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <unistd.h>
+
 namespace perideal
 {
   using namespace dealii;
@@ -31,10 +33,12 @@ namespace perideal
     for (const auto &n : variable_names())
       selection += (selection.empty() ? "" : "|") + n;
     prm.declare_entry("Directory", "output", Patterns::Anything(),
-                      "Where output goes; created if missing.");
+                      "Where output goes; created if missing. Every run (not --dry-run) first writes "
+                      "<base name>.parameters.prm there: all its parameters, defaults included, in this "
+                      "format; pd_app on that file, started in the same directory, repeats the run.");
     prm.declare_entry("Base name", "run", Patterns::Anything(),
                       "Files are <base name>_<step>.<rank>.vtu, <base name>_<step>.pvtu, "
-                      "<base name>.pvd and <base name>.globals.csv.");
+                      "<base name>.pvd, <base name>.globals.csv and <base name>.parameters.prm.");
     prm.declare_entry("Frequency", "0", Patterns::Integer(0),
                       "Write every this many steps, plus the first and the last step. "
                       "0: write nothing during the run (the summary is still printed).");
@@ -68,18 +72,37 @@ namespace perideal
                            base_name + "'"));
   }
 
-  void
-  write_file_atomically(const std::string &filename, const std::string &text)
+  std::string
+  try_write_file_atomically(const std::string &filename, const std::string &text)
   {
-    const std::string tmp = filename + ".tmp";
+    // Per process: runs started in one directory (the test suite's error
+    // cases) may write the same file at once; the last rename wins, whole.
+    const std::string tmp = filename + "." + std::to_string(::getpid()) + ".tmp";
     {
       std::ofstream out(tmp, std::ios::binary);
       out << text;
       out.close();
-      AssertThrow(out, ExcMessage("cannot write the file '" + tmp + "'"));
+      if (!out)
+        return "cannot write the file '" + tmp + "'";
     }
-    AssertThrow(std::rename(tmp.c_str(), filename.c_str()) == 0,
-                ExcMessage("cannot rename '" + tmp + "' to '" + filename + "'"));
+    if (std::rename(tmp.c_str(), filename.c_str()) != 0)
+      return "cannot rename '" + tmp + "' to '" + filename + "'";
+    return "";
+  }
+
+  void
+  write_file_atomically(const std::string &filename, const std::string &text)
+  {
+    const std::string problem = try_write_file_atomically(filename, text);
+    AssertThrow(problem.empty(), ExcMessage(problem));
+  }
+
+  void
+  OutputWriter::keep_parameters(const ParameterHandler &prm)
+  {
+    std::ostringstream out;
+    prm.print_parameters(out, ParameterHandler::PRM);
+    parameters = out.str();
   }
 
   void
@@ -96,6 +119,8 @@ namespace perideal
           problem = "'" + directory + "' exists and is not a directory: name another Output/Directory";
         else if (ec || !std::filesystem::is_directory(directory))
           problem = "cannot create '" + directory + "'" + (ec ? " (" + ec.message() + ")" : std::string());
+        else if (!parameters.empty())
+          problem = try_write_file_atomically(directory + "/" + base_name + ".parameters.prm", parameters);
       }
     problem = Utilities::MPI::broadcast(comm, problem, 0);
     AssertThrow(problem.empty(), ExcMessage("Output/Directory: " + problem));

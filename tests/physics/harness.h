@@ -6,7 +6,11 @@
 // does: initialize, ghost the constant fields, compute_stage, ghost the stage
 // fields, compute_force. With a second block (SecondBlock: the points with x
 // beyond a plane, their own horizon and a second instance of the material)
-// the blocks' horizons differ and the bonds carry Bonds::family.
+// the blocks' horizons differ and the bonds carry Bonds::family. Its Report
+// prints the lines of the suite's checker library (tests/tools/check.h) on
+// rank 0.
+
+#include "../tools/check.h"
 
 #include <perideal/base/input.h>
 #include <perideal/discretization/point_cloud.h>
@@ -321,10 +325,7 @@ namespace pdtest
     void
     check(const std::string &name, const double value, const bool ok, const std::string &bound)
     {
-      std::ostringstream o;
-      o << std::setprecision(6) << name << " = " << value << "  (" << bound << ")  "
-        << (ok ? "PASS" : "FAIL");
-      line(o.str());
+      line(check_common::check_line(name, value, ok, bound, 6));
       if (!ok)
         ++failures;
     }
@@ -352,7 +353,7 @@ namespace pdtest
     int
     finish()
     {
-      line(failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED");
+      line(check_common::verdict(failures));
       return failures == 0 ? 0 : 1;
     }
 

@@ -59,7 +59,14 @@ namespace perideal
       return is_field_step(step, n_steps) || is_globals_step(step, n_steps);
     }
 
-    /// Creates the output directory and clears the series. Collective.
+    /// Keeps the text of @p prm, the run's parameters as read (every key,
+    /// defaults included, in deal.II's PRM format), for initialize().
+    void
+    keep_parameters(const ParameterHandler &prm);
+
+    /// Creates the output directory, writes the kept parameters there as
+    /// <base name>.parameters.prm (rank 0; pd_app on that file repeats the
+    /// run) and clears the series. Collective.
     void
     initialize(const MPI_Comm comm);
 
@@ -90,6 +97,7 @@ namespace perideal
     bool                  globals = true;
 
   private:
+    std::string                                 parameters;
     std::vector<std::pair<double, std::string>> pvd_records;
     std::vector<std::string>                    csv_lines;
   };
@@ -97,4 +105,8 @@ namespace perideal
   /// Writes @p text to @p filename through a temporary file and a rename.
   void
   write_file_atomically(const std::string &filename, const std::string &text);
+
+  /// The same; returns what went wrong instead of throwing (empty: written).
+  std::string
+  try_write_file_atomically(const std::string &filename, const std::string &text);
 } // namespace perideal

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""merge_prm.py BASE OVERLAY... : BASE with every 'set' of the OVERLAYs applied.
+"""merge_prm.py [--source-dir DIR] BASE OVERLAY... : BASE with every 'set' of the OVERLAYs applied.
 
 A test runs an example scene with a few settings changed (fewer steps, no
 field files). pd_app refuses a key or a subsection given twice, so the
 overlay is not appended: each of its 'set' lines replaces the base's value of
 that key (or is added, with its subsections), as pd_study.py's --set does.
-Prints the merged file."""
+Prints the merged file, @PERIDEAL_SOURCE_DIR@ in it replaced by DIR (the
+source tree). Run by tests/tools/run.sh (check --prm)."""
 import importlib.util
 import os
 import sys
@@ -31,12 +32,18 @@ def assignments(text):
     return out
 
 
-if len(sys.argv) < 2:
-    sys.exit("usage: merge_prm.py BASE [OVERLAY...]")
-with open(sys.argv[1]) as f:
+args = sys.argv[1:]
+source_dir = None
+if args[:1] == ["--source-dir"]:
+    source_dir, args = args[1], args[2:]
+if not args:
+    sys.exit("usage: merge_prm.py [--source-dir DIR] BASE [OVERLAY...]")
+with open(args[0]) as f:
     text = f.read()
-for overlay in sys.argv[2:]:
+for overlay in args[1:]:
     with open(overlay) as f:
         for a in assignments(f.read()):
             text = pd_study.override(text, a)
+if source_dir is not None:
+    text = text.replace("@PERIDEAL_SOURCE_DIR@", source_dir)
 sys.stdout.write(text)

@@ -1,7 +1,7 @@
-// Checks an implicit pd_app run (QuasiStatic or Newmark) from its globals CSV
-// and its stdout:
+// perideal_check quasistatic: checks a pd_app run (implicit: QuasiStatic or
+// Newmark, or a wave) from its globals CSV and its stdout:
 //
-//   check_quasistatic --csv CSV [--step S --scale X --tol T NAME=VALUE ...]
+//   perideal_check quasistatic --csv CSV [--step S --scale X --tol T NAME=VALUE ...]
 //                     [--stdout OUT --min-order P --max-iterations N]
 //                     [--energy-drift B]
 //                     [--reference CSV2 --column C --arrival-tol A --signal-tol G]
@@ -38,7 +38,7 @@
 //   be given for several columns.
 // Prints the numbers with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
-#include "check_common.h"
+#include "check.h"
 
 #include <algorithm>
 #include <cmath>
@@ -222,7 +222,7 @@ namespace
 } // namespace
 
 int
-main(int argc, char *argv[])
+check_quasistatic(int argc, char *argv[])
 {
   try
     {

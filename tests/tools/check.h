@@ -1,8 +1,10 @@
 #pragma once
-// What the checker programs of the pd_app tests share (check_quasistatic,
-// tests/stability/check_stability): a failure count, the PASS/FAIL line and
-// the verdict, command-line values, the globals CSV as rows of named columns.
-// Serial; no MPI.
+// The checker library of the test suite: what perideal_check (the checks of
+// a pd_app run's globals CSV and standard output: check_globals.cc,
+// check_quasistatic.cc, check_stability.cc) and the C++ test programs
+// (tests/physics/harness.h) share: the "NAME = VALUE  (BOUND)  PASS|FAIL"
+// line, a failure count and the verdict, command-line values, the globals
+// CSV as rows of named columns. Serial; no MPI.
 
 #include <cstdlib>
 #include <fstream>
@@ -29,12 +31,26 @@ namespace check_common
     return o.str();
   }
 
-  /// Prints "NAME = VALUE  (BOUND)  PASS|FAIL", VALUE with @p digits
-  /// significant digits, and counts a failure.
+  /// "NAME = VALUE  (BOUND)  PASS|FAIL", VALUE with @p digits significant digits.
+  inline std::string
+  check_line(const std::string &name, const double value, const bool ok, const std::string &bound,
+             const int digits)
+  {
+    return name + " = " + str(value, digits) + "  (" + bound + ")  " + (ok ? "PASS" : "FAIL");
+  }
+
+  /// The last line of a check program's output after @p n_failures failed checks.
+  inline std::string
+  verdict(const unsigned int n_failures)
+  {
+    return n_failures == 0 ? "ALL PASSED" : std::to_string(n_failures) + " CHECK(S) FAILED";
+  }
+
+  /// Prints check_line() and counts a failure.
   inline void
   check(const std::string &name, const double value, const bool ok, const std::string &bound, const int digits)
   {
-    std::cout << name << " = " << str(value, digits) << "  (" << bound << ")  " << (ok ? "PASS" : "FAIL") << "\n";
+    std::cout << check_line(name, value, ok, bound, digits) << "\n";
     if (!ok)
       ++failures;
   }
@@ -44,7 +60,7 @@ namespace check_common
   inline int
   finish()
   {
-    std::cout << (failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED") << std::endl;
+    std::cout << verdict(failures) << std::endl;
     return failures == 0 ? 0 : 1;
   }
 
@@ -86,3 +102,12 @@ namespace check_common
     return rows;
   }
 } // namespace check_common
+
+// The modes of perideal_check (perideal_check.cc), each with its own
+// arguments after the mode's name (argv[0]).
+int
+check_globals(int argc, char *argv[]);
+int
+check_quasistatic(int argc, char *argv[]);
+int
+check_stability(int argc, char *argv[]);

@@ -1,7 +1,7 @@
-// Checks the globals CSV (and the closing summary) of a pd_app run for the
-// stability tests:
+// perideal_check stability: checks the globals CSV (and the closing summary)
+// of a pd_app run for the stability tests:
 //
-//   check_stability --csv CSV [--finite] [--energy-drift B] [--energy-gain B]
+//   perideal_check stability --csv CSV [--finite] [--energy-drift B] [--energy-gain B]
 //                   [--max-ratio NUM DEN B]... [--value STEP COLUMN EXPECTED TOL]...
 //                   [--last COLUMN MIN MAX]... [--balance STDOUT B]
 //
@@ -19,7 +19,7 @@
 // Prints the numbers (3 digits, so that runs on 1 and 2 ranks print the
 // same) with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
-#include "../physics/check_common.h"
+#include "check.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,7 +86,7 @@ namespace
 } // namespace
 
 int
-main(int argc, char *argv[])
+check_stability(int argc, char *argv[])
 {
   try
     {

@@ -1,12 +1,14 @@
-// Checks the globals CSV of a pd_app run (step,time,kinetic_energy,
-// strain_energy,external_work,broken_bonds,max_damage) against analytic
-// answers. Usage:
-//   check_globals verlet  CSV pd_app-stdout
-//   check_globals blowup  CSV pd_app-stderr steps-asked
-//   check_globals pair    CSV A T s_c K horizon
-//   check_globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K
+// perideal_check globals: checks the globals CSV of a pd_app run (step,time,
+// kinetic_energy,strain_energy,external_work,broken_bonds,max_damage) against
+// analytic answers. Usage:
+//   perideal_check globals verlet  CSV pd_app-stdout
+//   perideal_check globals blowup  CSV pd_app-stderr steps-asked
+//   perideal_check globals pair    CSV A T s_c K horizon
+//   perideal_check globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K
 // Prints the measured numbers with PASS/FAIL and returns non-zero on failure.
 // Serial; no MPI.
+
+#include "check.h"
 
 #include <algorithm>
 #include <array>
@@ -55,23 +57,17 @@ namespace
     return rows;
   }
 
-  unsigned int failures = 0;
-
   void
   check(const std::string &name, const double value, const bool ok, const std::string &bound)
   {
-    std::cout << std::setprecision(8) << name << " = " << value << "  (" << bound << ")  "
-              << (ok ? "PASS" : "FAIL") << "\n";
-    if (!ok)
-      ++failures;
+    std::cout << std::setprecision(8); // later lines print with it, as they always did
+    check_common::check(name, value, ok, bound, 8);
   }
 
   std::string
   str(const double v)
   {
-    std::ostringstream o;
-    o << std::setprecision(6) << v;
-    return o.str();
+    return check_common::str(v, 6);
   }
 
   double
@@ -82,12 +78,12 @@ namespace
 } // namespace
 
 int
-main(int argc, char *argv[])
+check_globals(int argc, char *argv[])
 {
   try
     {
       if (argc < 3)
-        throw std::runtime_error("usage: check_globals MODE CSV ...");
+        throw std::runtime_error("usage: perideal_check globals MODE CSV ...");
       const std::string         mode = argv[1];
       const std::vector<Row>    rows = read_csv(argv[2]);
       std::vector<double>       a;
@@ -313,6 +309,5 @@ main(int argc, char *argv[])
       std::cout << "Error: " << e.what() << std::endl;
       return 2;
     }
-  std::cout << (failures == 0 ? "ALL PASSED" : std::to_string(failures) + " CHECK(S) FAILED") << std::endl;
-  return failures == 0 ? 0 : 1;
+  return check_common::finish();
 }

@@ -1,0 +1,204 @@
+# The functions every folder of the suite defines its tests with. Each test
+# runs through the one runner, tests/tools/run.sh (its modes: error, output,
+# interrupt, check), and checks a run's CSV and output with the one checker
+# program, perideal_check (tests/tools/check.h and check_*.cc); the C++ test
+# programs share check.h through tests/physics/harness.h.
+#
+# A folder sets perideal_test_group (input, physics, ...): its tests are named
+# GROUP.NAME.npN and labelled GROUP.
+
+set(PERIDEAL_RUN ${CMAKE_CURRENT_LIST_DIR}/run.sh)
+set(PERIDEAL_PD_APP $<TARGET_FILE:pd_app>)
+set(PERIDEAL_CHECK $<TARGET_FILE:perideal_check>)
+
+add_executable(perideal_check
+  ${CMAKE_CURRENT_LIST_DIR}/perideal_check.cc
+  ${CMAKE_CURRENT_LIST_DIR}/check_globals.cc
+  ${CMAKE_CURRENT_LIST_DIR}/check_quasistatic.cc
+  ${CMAKE_CURRENT_LIST_DIR}/check_stability.cc)
+
+# perideal_add_test(TEST NP TIMEOUT COMMAND...): one ctest case on NP ranks
+# with the suite's environment, labelled ${perideal_test_group}.
+function(perideal_add_test test np timeout)
+  add_test(NAME ${test} COMMAND ${ARGN} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+  set_tests_properties(${test} PROPERTIES ENVIRONMENT "${PERIDEAL_TEST_ENVIRONMENT}"
+    PROCESSORS ${np} TIMEOUT ${timeout} LABELS ${perideal_test_group})
+endfunction()
+
+# perideal_pd_app_command(VAR NP): pd_app itself on 1 rank, under mpirun on more.
+function(perideal_pd_app_command var np)
+  if(np EQUAL 1)
+    set(${var} ${PERIDEAL_PD_APP} PARENT_SCOPE)
+  else()
+    set(${var} ${PERIDEAL_MPIRUN} -np ${np} ${PERIDEAL_PD_APP} PARENT_SCOPE)
+  endif()
+endfunction()
+
+# perideal_error_test(NAME NP REGEX re [STDOUT re...] [MEMORY_LIMIT kib]
+#                     [FIFO path] [TIMEOUT s] COMMAND ...): COMMAND must fail
+# cleanly with a line 'Error: ' on standard error, which matches REGEX
+# (extended, line by line); standard output matches each STDOUT; with
+# MEMORY_LIMIT its virtual memory is limited to that many KiB; FIFO is made
+# first (a named pipe nothing writes to). Runner mode 'error'.
+function(perideal_error_test name np)
+  cmake_parse_arguments(T "" "REGEX;MEMORY_LIMIT;FIFO;TIMEOUT" "STDOUT;COMMAND" ${ARGN})
+  set(runner ${PERIDEAL_RUN})
+  if(T_FIFO)
+    list(APPEND runner --fifo ${T_FIFO})
+  endif()
+  list(APPEND runner error)
+  if(T_MEMORY_LIMIT)
+    list(APPEND runner -v ${T_MEMORY_LIMIT})
+  endif()
+  foreach(re ${T_STDOUT})
+    list(APPEND runner -o ${re})
+  endforeach()
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 120)
+  endif()
+  perideal_add_test(${perideal_test_group}.${name}.np${np} ${np} ${T_TIMEOUT}
+    ${runner} ${T_REGEX} ${T_COMMAND})
+endfunction()
+
+# perideal_pd_app_error_test(NAME REGEX [NP...]): pd_app on the calling
+# folder's NAME.prm must fail with a message matching REGEX, on each rank count
+# given (default 1). A NAME.prm.in is configured first (@CMAKE_CURRENT_SOURCE_DIR@:
+# files beside it, e.g. meshes).
+function(perideal_pd_app_error_test name regex)
+  set(ranks ${ARGN})
+  if(NOT ranks)
+    set(ranks 1)
+  endif()
+  set(prm ${CMAKE_CURRENT_SOURCE_DIR}/${name}.prm)
+  if(EXISTS ${prm}.in)
+    set(prm ${CMAKE_CURRENT_BINARY_DIR}/${name}.prm)
+    configure_file(${name}.prm.in ${prm} @ONLY)
+  endif()
+  foreach(np ${ranks})
+    perideal_pd_app_command(run ${np})
+    perideal_error_test(${name} ${np} REGEX "${regex}" COMMAND ${run} ${prm})
+  endforeach()
+endfunction()
+
+# perideal_output_test(NAME NP [STDOUT re...] [SAME_AS file] [HINT text]
+#                      [ABSENT glob...] [PRESENT glob...] COMMAND ...): COMMAND,
+# run in a new empty directory, exits with 0; its standard output matches each
+# STDOUT (extended, line by line) or equals SAME_AS (HINT: what to do if not);
+# no file matches an ABSENT glob, some file each PRESENT glob. Runner mode 'output'.
+function(perideal_output_test name np)
+  cmake_parse_arguments(T "" "SAME_AS;HINT" "STDOUT;ABSENT;PRESENT;COMMAND" ${ARGN})
+  set(checks)
+  foreach(re ${T_STDOUT})
+    list(APPEND checks --stdout ${re})
+  endforeach()
+  if(T_SAME_AS)
+    list(APPEND checks --same-as ${T_SAME_AS})
+  endif()
+  if(T_HINT)
+    list(APPEND checks --hint ${T_HINT})
+  endif()
+  foreach(glob ${T_ABSENT})
+    list(APPEND checks --absent ${glob})
+  endforeach()
+  foreach(glob ${T_PRESENT})
+    list(APPEND checks --present ${glob})
+  endforeach()
+  perideal_add_test(${perideal_test_group}.${name}.np${np} ${np} 120
+    ${PERIDEAL_RUN} output ${checks} -- ${T_COMMAND})
+endfunction()
+
+# perideal_interrupt_test(NAME NP SIGNAL BASE_NAME PRM): pd_app on NP ranks
+# on PRM, stopped by SIGNAL (TERM, INT, KILL) once its globals CSV
+# output/BASE_NAME.globals.csv has rows. Runner mode 'interrupt'.
+function(perideal_interrupt_test name np signal base prm)
+  perideal_pd_app_command(run ${np})
+  perideal_add_test(${perideal_test_group}.${name}.np${np} ${np} 120
+    ${PERIDEAL_RUN} interrupt ${signal} ${base} ${run} ${prm})
+endfunction()
+
+# perideal_program_test(NAME COMMAND <program and arguments>
+#                       [EXPECT success|error] [REGEX re] [CHECK <command>]
+#                       [EXPECTED file] [NUMDIFF_ARGS args]): the program
+# (pd_app or a test program) under mpirun -np 1 and -np 2, in the work
+# directory GROUP.NAME.npN of the build tree; its exit code as EXPECT
+# (default success); its standard output and error together match REGEX
+# (extended, over the whole text); CHECK then runs there and must exit with 0;
+# its standard output (or the program's, without CHECK) equals the calling
+# folder's EXPECTED under numdiff (default tolerances -a 1e-9 -r 1e-6). Both
+# rank counts against the same file: 1 and 2 ranks agree. Runner mode 'check'.
+function(perideal_program_test name)
+  cmake_parse_arguments(T "" "EXPECT;REGEX;EXPECTED" "COMMAND;CHECK;NUMDIFF_ARGS" ${ARGN})
+  if(NOT T_EXPECT)
+    set(T_EXPECT success)
+  endif()
+  if(NOT T_NUMDIFF_ARGS)
+    set(T_NUMDIFF_ARGS -q -a 1e-9 -r 1e-6)
+  endif()
+  foreach(np 1 2)
+    set(test ${perideal_test_group}.${name}.np${np})
+    set(options --workdir ${CMAKE_CURRENT_BINARY_DIR}/${test} --expect ${T_EXPECT})
+    if(T_REGEX)
+      list(APPEND options --regex ${T_REGEX})
+    endif()
+    if(T_EXPECTED)
+      list(APPEND options --expected ${CMAKE_CURRENT_SOURCE_DIR}/${T_EXPECTED})
+      foreach(a ${T_NUMDIFF_ARGS})
+        list(APPEND options --numdiff-arg ${a})
+      endforeach()
+    endif()
+    set(check)
+    if(T_CHECK)
+      set(check --- ${T_CHECK})
+    endif()
+    perideal_add_test(${test} ${np} 300
+      ${PERIDEAL_RUN} check ${options} -- ${PERIDEAL_MPIRUN} -np ${np} ${T_COMMAND} ${check})
+  endforeach()
+endfunction()
+
+# perideal_example_test(NAME NP PRM <files> CSV <file> [REGEX re]
+#                       [EXPECTED file] [NUMDIFF_ARGS args]
+#                       [LAST_ROW_MIN column minimum ...] [CHECK command args]
+#                       [FIXTURE name]): pd_app on NP ranks (mpirun) on the
+# first parameter file with the others' settings applied (case.prm), in the
+# work directory GROUP.NAME.npNP of the build tree. It exits with 0, its
+# standard output matches REGEX, it writes CSV, whose last row has each
+# column >= its minimum; CHECK then exits with 0; the set-up report's points,
+# bonds and block lines followed by CHECK's standard output (or the CSV)
+# equal EXPECTED under numdiff. FIXTURE: the test sets up that fixture.
+# Runner mode 'check'.
+function(perideal_example_test name np)
+  cmake_parse_arguments(T "" "CSV;REGEX;EXPECTED;FIXTURE" "PRM;NUMDIFF_ARGS;LAST_ROW_MIN;CHECK" ${ARGN})
+  set(test ${perideal_test_group}.${name}.np${np})
+  set(options --workdir ${CMAKE_CURRENT_BINARY_DIR}/${test} --source-dir ${PROJECT_SOURCE_DIR} --csv ${T_CSV})
+  foreach(prm ${T_PRM})
+    list(APPEND options --prm ${prm})
+  endforeach()
+  if(T_REGEX)
+    list(APPEND options --stdout-regex ${T_REGEX})
+  endif()
+  list(LENGTH T_LAST_ROW_MIN n)
+  if(n GREATER 0)
+    math(EXPR last "${n} - 1")
+    foreach(i RANGE 0 ${last} 2)
+      math(EXPR j "${i} + 1")
+      list(GET T_LAST_ROW_MIN ${i} column)
+      list(GET T_LAST_ROW_MIN ${j} minimum)
+      list(APPEND options --last-row-min ${column} ${minimum})
+    endforeach()
+  endif()
+  if(T_EXPECTED)
+    list(APPEND options --report-lines --expected ${CMAKE_CURRENT_SOURCE_DIR}/${T_EXPECTED})
+    foreach(a ${T_NUMDIFF_ARGS})
+      list(APPEND options --numdiff-arg ${a})
+    endforeach()
+  endif()
+  set(check)
+  if(T_CHECK)
+    set(check --- ${T_CHECK})
+  endif()
+  perideal_add_test(${test} ${np} 600
+    ${PERIDEAL_RUN} check ${options} -- ${PERIDEAL_MPIRUN} -np ${np} ${PERIDEAL_PD_APP} case.prm ${check})
+  if(T_FIXTURE)
+    set_tests_properties(${test} PROPERTIES FIXTURES_SETUP ${T_FIXTURE})
+  endif()
+endfunction()

@@ -1,0 +1,446 @@
+#!/usr/bin/env bash
+# The test runner of the suite: runs pd_app (or a test program), directly or
+# under mpirun, captures its standard output, standard error and exit code,
+# and checks them. tests/tools/perideal_tests.cmake builds its command lines.
+#
+#   run.sh [--fifo PATH] MODE ARGUMENTS...
+#
+# --fifo PATH: first make the named pipe PATH (if it is not there yet): the
+#   parameter file tests for a file that is not a regular file. Nothing ever
+#   writes to the pipe, so a program that opens it for reading blocks forever;
+#   the test's TIMEOUT catches that.
+#
+# MODE error [-v KIB] [-o REGEX] PATTERN COMMAND [ARGUMENTS...]
+#   passes only if COMMAND fails cleanly with the expected message:
+#   - the exit code is non-zero, not 126 or 127 (the command could not be
+#     run) and not a crash (a signal gives 128 or more),
+#   - standard error has a line starting with 'Error: ', and
+#   - standard error matches PATTERN, an extended regular expression, line
+#     by line as grep.
+#   -v KIB: run COMMAND with its virtual memory limited to KIB kibibytes
+#     (ulimit -v, RLIMIT_AS, inherited by mpirun's ranks): a scene too large
+#     must be refused, not allocated.
+#   -o REGEX: standard output must match REGEX too (extended; may be repeated).
+#
+# MODE output [CHECK...] -- COMMAND [ARGUMENTS...]
+#   runs COMMAND in a new empty directory and passes only if it exits with 0
+#   and every CHECK holds:
+#     --stdout PATTERN   standard output matches the extended regular expression
+#     --same-as FILE     standard output equals FILE byte for byte
+#     --absent GLOB      no file matching GLOB (under the run directory) exists after the run
+#     --present GLOB     a file matching GLOB exists after the run
+#     --hint TEXT        printed after a failure: how to fix it
+#   Paths in COMMAND should be absolute: the run directory is a fresh one.
+#
+# MODE interrupt SIGNAL BASE_NAME COMMAND [ARGUMENTS...]
+#   runs COMMAND (pd_app, or mpirun -np N pd_app, on a long run whose Output
+#   writes fields and globals into output/ under BASE_NAME) in a new empty
+#   directory, waits until the globals CSV has a few rows, sends SIGNAL (TERM,
+#   INT) to the process (to mpirun for a parallel run, as a user's Ctrl-C or a
+#   batch system does) and passes only if the run stopped cleanly:
+#   - it exited by itself within the time limit, with a non-zero code (pd_app
+#     run directly: 128 + the signal),
+#   - standard error has "Error: interrupted by SIG... at step N (t = ...):
+#     the output holds steps up to N", standard output the summary,
+#   - the .pvd lists exactly the steps that have a .pvtu, the last one N,
+#   - every .pvtu's pieces exist, every .vtu is a piece of a .pvtu, and no
+#     temporary file is left,
+#   - the CSV has one row per .pvd step, the same steps.
+#   SIGNAL KILL: SIGKILL to the process (to a rank under mpirun) at once, no
+#   clean stop; then only the files are checked: written whole or not at all,
+#   the .pvd and the .pvtu files and pieces as above (temporary files may stay,
+#   and the last .pvtu may not be in the .pvd yet),
+#   the CSV at most the .pvd's last step behind it, never ahead.
+#   Bounded: 60 s for the first rows, 20 s for the stop.
+#
+# MODE check --workdir DIR [OPTIONS] -- COMMAND [ARGUMENTS...] [--- CHECK [ARGUMENTS...]]
+#   runs COMMAND in DIR (emptied first), keeps its output in DIR/run.stdout
+#   and DIR/run.stderr, then:
+#     --expect success|error  the exit code is 0 (default) or not 0
+#     --regex RE         standard output and error together match RE (an
+#                        extended regular expression over the whole text: '.'
+#                        and '[^x]' match a newline, '^' and '$' anchor at its
+#                        ends)
+#     --stdout-regex RE  the same for standard output alone
+#     --prm FILE         (repeatable) DIR/case.prm is the first FILE with the
+#                        'set' lines of the others applied in order
+#                        (merge_prm.py), @PERIDEAL_SOURCE_DIR@ replaced by
+#                        --source-dir; COMMAND names it case.prm
+#     --csv FILE         the globals CSV the run writes (relative to DIR): it
+#                        must exist
+#     --last-row-min COLUMN MIN  (repeatable) the last row of the CSV has
+#                        COLUMN >= MIN
+#     CHECK              a command run in DIR after COMMAND; must exit with 0
+#     --expected FILE    DIR/compared.txt must equal FILE under numdiff
+#                        ($PERIDEAL_NUMDIFF) with the --numdiff-arg
+#                        arguments (repeatable): the standard output of CHECK,
+#                        else the CSV (--csv), else the standard output of
+#                        COMMAND; with --report-lines preceded by the set-up
+#                        report's points, bonds and block lines (the part of
+#                        the report that does not depend on the rank count)
+# Each mode prints what it ran and saw, so that ctest --output-on-failure
+# shows what happened, and ends with a PASS line or a FAIL line and exit 1.
+set -uo pipefail
+
+usage() {
+  sed -n '2,/^set -uo/p' "${BASH_SOURCE[0]}" | sed '$d' | sed 's/^# \{0,1\}//' >&2
+  exit 2
+}
+
+# ----------------------------------------------------------------- error
+mode_error() {
+  local limit= stdout_patterns=()
+  while [[ $# -gt 0 ]]; do
+    case $1 in
+      -v) limit=$2; shift 2 ;;
+      -o) stdout_patterns+=("$2"); shift 2 ;;
+      *) break ;;
+    esac
+  done
+  [[ $# -ge 2 ]] || usage
+  local pattern=$1
+  shift
+
+  err=$(mktemp)
+  out=$(mktemp)
+  trap 'rm -f "$err" "$out"' EXIT
+  if [[ -n $limit ]]; then
+    (ulimit -v "$limit" && exec "$@") >"$out" 2>"$err"
+  else
+    "$@" >"$out" 2>"$err"
+  fi
+  local rc=$?
+  echo "--- standard output:"
+  cat "$out"
+  echo "--- standard error (exit code $rc):"
+  cat "$err"
+
+  fail() {
+    echo "FAIL: $*"
+    exit 1
+  }
+  [[ $rc -ne 0 ]] || fail "exit code 0, expected an error"
+  [[ $rc -ne 126 && $rc -ne 127 ]] || fail "exit code $rc: the command could not be run"
+  [[ $rc -lt 128 ]] || fail "exit code $rc: a crash or a signal, not a clean error"
+  grep -q '^Error: ' "$err" || fail "no line starting with 'Error: ' on standard error"
+  grep -q -E -e "$pattern" "$err" || fail "standard error does not match: $pattern"
+  local p
+  for p in ${stdout_patterns[@]+"${stdout_patterns[@]}"}; do
+    grep -q -E -e "$p" "$out" || fail "standard output does not match: $p"
+  done
+  echo "PASS: exit code $rc and the expected message"
+}
+
+# ---------------------------------------------------------------- output
+mode_output() {
+  local stdout_patterns=() same_as="" hint="" absent=() present=()
+  while [[ $# -gt 0 && $1 != -- ]]; do
+    case $1 in
+      --stdout) stdout_patterns+=("$2"); shift 2 ;;
+      --same-as) same_as=$2; shift 2 ;;
+      --hint) hint=$2; shift 2 ;;
+      --absent) absent+=("$2"); shift 2 ;;
+      --present) present+=("$2"); shift 2 ;;
+      *) echo "$0: unknown check '$1'" >&2; exit 2 ;;
+    esac
+  done
+  [[ $# -ge 2 ]] || usage
+  shift
+
+  dir=$(mktemp -d)
+  trap 'rm -rf "$dir"' EXIT
+  (cd "$dir" && "$@" >"$dir/.stdout" 2>"$dir/.stderr")
+  local rc=$?
+  echo "--- standard output (exit code $rc):"
+  cat "$dir/.stdout"
+  echo "--- standard error:"
+  cat "$dir/.stderr"
+
+  local failed=0
+  fail() {
+    echo "FAIL: $*"
+    failed=1
+  }
+  [[ $rc -eq 0 ]] || fail "exit code $rc, expected 0"
+  local p g found
+  for p in ${stdout_patterns[@]+"${stdout_patterns[@]}"}; do
+    grep -q -E -e "$p" "$dir/.stdout" || fail "standard output does not match: $p"
+  done
+  if [[ -n $same_as ]]; then
+    cmp -s "$same_as" "$dir/.stdout" ||
+      { fail "standard output differs from $same_as:"; diff "$same_as" "$dir/.stdout" | head -40; }
+  fi
+  shopt -s nullglob globstar
+  for g in ${absent[@]+"${absent[@]}"}; do
+    found=("$dir"/$g)
+    [[ ${#found[@]} -eq 0 ]] || fail "files that should not exist: ${found[*]#"$dir"/}"
+  done
+  for g in ${present[@]+"${present[@]}"}; do
+    found=("$dir"/$g)
+    [[ ${#found[@]} -gt 0 ]] || fail "no file matches $g"
+  done
+  if [[ $failed -ne 0 ]]; then
+    [[ -z $hint ]] || echo "$hint"
+    exit 1
+  fi
+  echo "PASS"
+}
+
+# ------------------------------------------------------------- interrupt
+mode_interrupt() {
+  [[ $# -ge 3 ]] || usage
+  local signal=$1 base=$2
+  shift 2
+
+  run=$(mktemp -d "${TMPDIR:-/tmp}/interrupt.XXXXXX")
+  pid=
+  cleanup() {
+    [[ -n $pid ]] && kill -KILL "$pid" 2>/dev/null
+    rm -rf "$run"
+  }
+  trap cleanup EXIT
+  cd "$run" || exit 2
+  fail() {
+    echo "--- standard output (tail):"
+    tail -n 30 "$run/out.txt"
+    echo "--- standard error:"
+    cat "$run/err.txt"
+    echo "--- files:"
+    ls "$run/output" 2>/dev/null | tr '\n' ' '
+    echo
+    echo "FAIL: $*"
+    exit 1
+  }
+
+  "$@" >out.txt 2>err.txt &
+  pid=$!
+  local csv=output/$base.globals.csv i rc
+  for ((i = 0; i < 600; ++i)); do
+    [[ -f $csv && $(wc -l <"$csv") -ge 3 ]] && break
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  if ! kill -0 "$pid" 2>/dev/null; then
+    wait "$pid"
+    rc=$?
+    pid=
+    fail "the run ended before the signal (exit code $rc)"
+  fi
+  [[ -f $csv && $(wc -l <"$csv") -ge 3 ]] || fail "no globals rows after 60 s"
+  local target=$pid
+  [[ $signal == KILL && $(basename "$1") != pd_app ]] && target=$(pgrep -P "$pid" | tail -n 1)
+  kill -"$signal" "$target"
+  for ((i = 0; i < 200; ++i)); do
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  if kill -0 "$pid" 2>/dev/null; then
+    fail "still running 20 s after SIG$signal"
+  fi
+  wait "$pid"
+  rc=$?
+  pid=
+  echo "exit code $rc after SIG$signal"
+
+  [[ $rc -ne 0 ]] || fail "exit code 0"
+  # The steps the .pvd lists, the .pvtu files there are and the CSV rows (in output/).
+  read_steps() {
+    pvd_steps=$(grep -o "file=\"${base}_[0-9]*\.pvtu\"" "$base.pvd" | sed -E 's/.*_0*([0-9]+)\.pvtu"/\1/' | sort -n | tr '\n' ' ')
+    pvtu_steps=$(ls "${base}"_*.pvtu | sed -E 's/.*_0*([0-9]+)\.pvtu/\1/' | sort -n | tr '\n' ' ')
+    csv_steps=$(tail -n +2 "$base.globals.csv" | cut -d, -f1 | sort -n | tr '\n' ' ')
+    echo ".pvd steps:  $pvd_steps"
+    echo ".pvtu steps: $pvtu_steps"
+    echo "CSV steps:   $csv_steps"
+  }
+  local pieces p vtus
+  if [[ $signal == KILL ]]; then
+    cd output || fail "no output directory"
+    rm -f ./*.tmp
+    read_steps
+    # A kill between a step's .pvtu and its .pvd record leaves that one .pvtu
+    # (complete, with its pieces) not yet listed: the .pvd is never ahead.
+    [[ $pvd_steps == "$pvtu_steps" || "$pvd_steps$(awk '{print $NF}' <<<"$pvtu_steps") " == "$pvtu_steps" ]] ||
+      fail "the .pvd steps differ from the .pvtu files (more than the last .pvtu not yet listed)"
+    [[ $csv_steps == "$pvd_steps" || "$csv_steps$(awk '{print $NF}' <<<"$pvd_steps") " == "$pvd_steps" ]] ||
+      fail "the CSV steps are not those of the .pvd (or one behind)"
+    pieces=$(grep -ho 'Source="[^"]*"' ./*.pvtu | sed -E 's/Source="(.*)"/\1/' | sort)
+    for p in $pieces; do
+      [[ -s $p ]] || fail "piece $p of a .pvtu is missing"
+    done
+    vtus=$(ls ./*.vtu | sed 's|^\./||' | sort)
+    [[ $vtus == "$pieces" ]] || fail "a .vtu that no .pvtu lists"
+    echo "PASS: killed; the files written consistent"
+    exit 0
+  fi
+  local expected name
+  if [[ $(basename "$1") == pd_app ]]; then
+    expected=$((128 + $(kill -l "$signal")))
+    [[ $rc -eq $expected ]] || fail "exit code $rc, expected $expected (128 + SIG$signal)"
+    name="SIG$signal"
+  else
+    name="SIG(TERM|INT)" # mpirun passes SIGTERM on to the ranks for both
+  fi
+  local line step upto last
+  line=$(grep -E "^Error: interrupted by $name at step [0-9]+ \(t = [^)]*\): the output holds steps up to [0-9]+$" err.txt)
+  [[ -n $line ]] || fail "no 'Error: interrupted by $name at step N ...' line on standard error"
+  [[ $(grep -c '^Error: ' err.txt) -eq 1 ]] || fail "more than one Error line"
+  step=$(sed -E 's/.* at step ([0-9]+) .*/\1/' <<<"$line")
+  upto=$(sed -E 's/.*steps up to ([0-9]+)$/\1/' <<<"$line")
+  [[ $step -eq $upto ]] || fail "stopped at step $step, output up to $upto"
+  grep -q '^PeriDeal summary' out.txt || fail "no summary on standard output"
+
+  cd output || fail "no output directory"
+  ls *.tmp >/dev/null 2>&1 && fail "temporary files left: $(ls *.tmp)"
+  read_steps
+  [[ $pvd_steps == "$pvtu_steps" ]] || fail "the .pvd steps differ from the .pvtu files"
+  [[ $csv_steps == "$pvd_steps" ]] || fail "the CSV steps differ from the .pvd steps"
+  [[ $(wc -w <<<"$pvd_steps") -ge 3 ]] || fail "fewer than 3 output steps"
+  last=$(awk '{print $NF}' <<<"$pvd_steps")
+  [[ $last -eq $step ]] || fail "the last output step $last is not the step of the stop $step"
+  pieces=$(grep -ho 'Source="[^"]*"' ./*.pvtu | sed -E 's/Source="(.*)"/\1/' | sort)
+  for p in $pieces; do
+    [[ -s $p ]] || fail "piece $p of a .pvtu is missing"
+  done
+  vtus=$(ls ./*.vtu | sed 's|^\./||' | sort)
+  [[ $vtus == "$pieces" ]] || fail "a .vtu that no .pvtu lists: $(comm -23 <(echo "$vtus") <(echo "$pieces") | tr '\n' ' ')"
+  echo "PASS: stopped at step $step on SIG$signal, exit code $rc, the output consistent"
+}
+
+# ----------------------------------------------------------------- check
+mode_check() {
+  local workdir= expect=success regex= has_regex=0 stdout_regex= has_stdout_regex=0 prm=() source_dir=
+  local csv= last_min=() expected= numdiff_args=() report_lines=0
+  while [[ $# -gt 0 && $1 != -- ]]; do
+    case $1 in
+      --workdir) workdir=$2; shift 2 ;;
+      --expect) expect=$2; shift 2 ;;
+      --regex) regex=$2; has_regex=1; shift 2 ;;
+      --stdout-regex) stdout_regex=$2; has_stdout_regex=1; shift 2 ;;
+      --prm) prm+=("$2"); shift 2 ;;
+      --source-dir) source_dir=$2; shift 2 ;;
+      --csv) csv=$2; shift 2 ;;
+      --last-row-min) last_min+=("$2" "$3"); shift 3 ;;
+      --expected) expected=$2; shift 2 ;;
+      --numdiff-arg) numdiff_args+=("$2"); shift 2 ;;
+      --report-lines) report_lines=1; shift ;;
+      *) echo "$0: unknown option '$1'" >&2; exit 2 ;;
+    esac
+  done
+  [[ $# -ge 2 && -n $workdir ]] || usage
+  [[ $expect == success || $expect == error ]] || usage
+  shift
+  local command=() check=()
+  while [[ $# -gt 0 && $1 != --- ]]; do
+    command+=("$1")
+    shift
+  done
+  if [[ $# -gt 0 ]]; then
+    shift
+    check=("$@")
+    [[ ${#check[@]} -gt 0 ]] || usage
+  fi
+
+  fail() {
+    echo "FAIL: $*"
+    exit 1
+  }
+  rm -rf "$workdir"
+  mkdir -p "$workdir" || fail "cannot make $workdir"
+  cd "$workdir" || fail "cannot enter $workdir"
+
+  # pd_app refuses a key or subsection given twice: the later files are
+  # overlays merged into the first (merge_prm.py), not appended.
+  if [[ ${#prm[@]} -gt 0 ]]; then
+    [[ -n ${PERIDEAL_PYTHON:-} ]] || fail "PERIDEAL_PYTHON is not set (needed to merge ${prm[*]})"
+    "$PERIDEAL_PYTHON" "$(dirname "${BASH_SOURCE[0]}")/merge_prm.py" --source-dir "$source_dir" "${prm[@]}" >case.prm ||
+      fail "merge_prm.py ${prm[*]} failed"
+  fi
+
+  "${command[@]}" >run.stdout 2>run.stderr
+  local rc=$?
+  echo "---- ${command[*]}"
+  cat run.stdout
+  if [[ -s run.stderr ]]; then
+    echo "---- stderr"
+    cat run.stderr
+  fi
+  echo "---- exit code $rc"
+  if [[ $expect == success ]]; then
+    [[ $rc -eq 0 ]] || fail "expected success, got exit code $rc"
+  else
+    [[ $rc -ne 0 ]] || fail "expected an error exit code, got $rc"
+  fi
+  local text
+  if [[ $has_regex -eq 1 ]]; then
+    text=$(cat run.stdout run.stderr; echo .)
+    [[ ${text%.} =~ $regex ]] || fail "the output does not match '$regex'"
+  fi
+  if [[ $has_stdout_regex -eq 1 ]]; then
+    text=$(cat run.stdout; echo .)
+    [[ ${text%.} =~ $stdout_regex ]] || fail "the output does not match '$stdout_regex'"
+  fi
+
+  if [[ -n $csv ]]; then
+    [[ -f $csv ]] || fail "the run wrote no $workdir/$csv"
+    local k value
+    for ((k = 0; k < ${#last_min[@]}; k += 2)); do
+      value=$(awk -F, -v column="${last_min[k]}" '
+        NR == 1 { for (c = 1; c <= NF; ++c) if ($c == column) at = c }
+        { last = $0 }
+        END { if (!at) exit 1; n = split(last, f, ","); print f[at] }' "$csv") ||
+        fail "$csv has no column '${last_min[k]}'"
+      awk -v v="$value" -v m="${last_min[k + 1]}" 'BEGIN { exit !(v + 0 >= m + 0) }' ||
+        fail "${last_min[k]} = $value in the last row of $csv, expected >= ${last_min[k + 1]}"
+      echo "---- last row: ${last_min[k]} = $value >= ${last_min[k + 1]}"
+    done
+  fi
+
+  if [[ ${#check[@]} -gt 0 ]]; then
+    "${check[@]}" >check.stdout 2>check.stderr
+    local check_rc=$?
+    echo "---- ${check[*]}"
+    cat check.stdout check.stderr
+    [[ $check_rc -eq 0 ]] || fail "the check failed (exit code $check_rc)"
+  fi
+
+  if [[ -n $expected ]]; then
+    [[ -n ${PERIDEAL_NUMDIFF:-} ]] || fail "PERIDEAL_NUMDIFF is not set"
+    {
+      if [[ $report_lines -eq 1 ]]; then
+        # The set-up report ends with the first line of the time integration.
+        awk '/^(Time integration|Quasistatic:|Newmark:)/ && NR > 1 { exit }
+             /^  (points|bonds|block \047.*\047):/ { print }' run.stdout |
+          sed -E 's/ \(nonlocal ghosts: [0-9]+\)//g'
+      fi
+      if [[ ${#check[@]} -gt 0 ]]; then
+        cat check.stdout
+      elif [[ -n $csv ]]; then
+        cat "$csv"
+      else
+        cat run.stdout
+      fi
+    } >compared.txt
+    local diff_out
+    diff_out=$("$PERIDEAL_NUMDIFF" "${numdiff_args[@]}" "$expected" compared.txt) ||
+      fail "numdiff ${numdiff_args[*]}: $workdir/compared.txt differs from $expected"$'\n'"$diff_out"
+    echo "---- numdiff ${numdiff_args[*]} against $expected: equal"
+  fi
+  echo "PASS"
+}
+
+if [[ ${1:-} == --fifo ]]; then
+  [[ $# -ge 3 ]] || usage
+  # The 1- and 2-rank tests may run at once: either may make the pipe.
+  mkfifo "$2" 2>/dev/null || [[ -p $2 ]] || { echo "cannot make the FIFO $2" >&2; exit 2; }
+  shift 2
+fi
+[[ $# -ge 1 ]] || usage
+mode=$1
+shift
+case $mode in
+  error) mode_error "$@" ;;
+  output) mode_output "$@" ;;
+  interrupt) mode_interrupt "$@" ;;
+  check) mode_check "$@" ;;
+  *) usage ;;
+esac
