@@ -125,24 +125,8 @@ namespace
     std::vector<std::string> selection; // the values of a Patterns::Selection, else empty
   };
 
-  /// deal.II writes entry names with every character but [a-zA-Z0-9] as _XX (hex).
-  std::string
-  demangle(const std::string &s)
-  {
-    std::string out;
-    for (std::size_t k = 0; k < s.size(); ++k)
-      if (s[k] == '_' && k + 2 < s.size() && std::isxdigit(s[k + 1]) && std::isxdigit(s[k + 2]))
-        {
-          out += char(std::stoi(s.substr(k + 1, 2), nullptr, 16));
-          k += 2;
-        }
-      else
-        out += s[k];
-    return out;
-  }
-
-  /// The top-level keys a model declares, read from its ParameterHandler
-  /// (keys in subsections keep their defaults).
+  /// The top-level keys a model declares, read from its ParameterHandler's
+  /// JSON (names as declared; keys in subsections keep their defaults).
   std::vector<Key>
   declared_keys(const Registry::Entry &entry)
   {
@@ -157,7 +141,7 @@ namespace
       {
         if (!node.get_child_optional("value"))
           continue;
-        Key key{demangle(name), node.get<std::string>("default_value"), {}};
+        Key key{name, node.get<std::string>("default_value"), {}};
         const std::string pattern = node.get<std::string>("pattern_description");
         const std::string head    = "[Selection ";
         if (pattern.compare(0, head.size(), head) == 0)
@@ -223,12 +207,6 @@ namespace
     report.line(name + " = " + sci(v, 6));
   }
 
-  double
-  max_over(const double v, const MPI_Comm comm)
-  {
-    return Utilities::MPI::max(v, comm);
-  }
-
   // ---------------------------------------------------------------------
   // (a), (b): rigid motions and objectivity.
   void
@@ -274,8 +252,8 @@ namespace
             W_max = std::max(W_max, std::abs(h.energy[i]));
           }
         report.line("  " + m.name);
-        report.below("    max |f| / (K 1e-3 / horizon)", max_over(f_max, comm) / f_ref, 1e-10);
-        report.below("    max |W| / (K 1e-6)", max_over(W_max, comm) / W_ref, 1e-10);
+        report.below("    max |f| / (K 1e-3 / horizon)", Utilities::MPI::max(f_max, comm) / f_ref, 1e-10);
+        report.below("    max |W| / (K 1e-6)", Utilities::MPI::max(W_max, comm) / W_ref, 1e-10);
       }
 
     // (b) objectivity: a deformed state, then the same state moved rigidly.
@@ -304,9 +282,9 @@ namespace
         dW = std::max(dW, std::abs(h.energy[i] - W0[i]));
       }
     report.line("  (b) objectivity: a non-affine state y0, then Q y0 + c (90 deg, translated)");
-    info(report, "    max |f0| / (K 1e-3 / horizon)", max_over(f0_max, comm) / f_ref);
-    report.below("    max |f1 - Q f0| / (K 1e-3 / horizon)", max_over(df, comm) / f_ref, 1e-10);
-    report.below("    max |W1 - W0| / (K 1e-6)", max_over(dW, comm) / W_ref, 1e-10);
+    info(report, "    max |f0| / (K 1e-3 / horizon)", Utilities::MPI::max(f0_max, comm) / f_ref);
+    report.below("    max |f1 - Q f0| / (K 1e-3 / horizon)", Utilities::MPI::max(df, comm) / f_ref, 1e-10);
+    report.below("    max |W1 - W0| / (K 1e-6)", Utilities::MPI::max(dW, comm) / W_ref, 1e-10);
   }
 
   // ---------------------------------------------------------------------
@@ -351,8 +329,8 @@ namespace
     hi     = Utilities::MPI::max(hi, comm);
     report.line("  (c) homogeneous u = H X, |H| ~ 1e-4 (not symmetric), cube 14^3: " + std::to_string(n_deep) +
                 " points deeper than 2 horizons");
-    report.below("    max |f| / (K 1e-3 / horizon) there", max_over(f_max, comm) / f_ref, 1e-10);
-    if (max_over(W_all, comm) == 0)
+    report.below("    max |f| / (K 1e-3 / horizon) there", Utilities::MPI::max(f_max, comm) / f_ref, 1e-10);
+    if (Utilities::MPI::max(W_all, comm) == 0)
       {
         report.line("    W: the model reports no strain energy density; not checked");
         return;
@@ -398,9 +376,10 @@ namespace
           max_a    = std::max(max_a, std::abs(it->value()));
           max_diff = std::max(max_diff, std::abs(it->value() - fd.matrix.el(row, it->column())));
         }
-    max_a    = max_over(max_a, comm);
-    max_diff = max_over(max_diff, comm);
-    report.line("  (d) tangent on a random state (5% of the spacing), box 6x4x4, coupling_hops = " + std::to_string(hops));
+    max_a    = Utilities::MPI::max(max_a, comm);
+    max_diff = Utilities::MPI::max(max_diff, comm);
+    report.line("  (d) tangent on a random state (5% of the spacing), box 6x4x4, coupling_hops = " +
+                std::to_string(hops));
     report.below("    max |K - K_fd| / max |K|", max_diff / max_a, 1e-6);
     info(report, "    Frobenius norm of K", analytic.matrix.frobenius_norm());
   }
@@ -435,7 +414,7 @@ namespace
       double x_max = 0;
       for (const double e : x)
         x_max = std::max(x_max, std::abs(e));
-      const double scale = eps / max_over(x_max, comm);
+      const double scale = eps / Utilities::MPI::max(x_max, comm);
       for (const double sign : {1.0, -1.0})
         {
           for (unsigned int k = 0; k < 3 * n; ++k)
@@ -491,7 +470,8 @@ namespace
         top = std::max(top, T.eigenvalue(j).real());
       return top;
     };
-    const double lambda = top_ritz(alpha.size()), settled = std::abs(lambda - top_ritz((alpha.size() + 1) / 2)) / lambda;
+    const double lambda  = top_ritz(alpha.size());
+    const double settled = std::abs(lambda - top_ritz((alpha.size() + 1) / 2)) / lambda;
     const double ratio  = dt_est * std::sqrt(lambda) / 2;
     info(report, "    dt_true = 2 / sqrt(lambda_max)", 2 / std::sqrt(lambda));
     report.check("    dt_est / dt_true", ratio, ratio <= 1 + 1e-9 && ratio > 0.1, "in (0.1, 1 + 1e-9]");
@@ -578,7 +558,18 @@ namespace
             for (const auto &key : keys)
               if (!variant.spec.keys.count(key.name))
                 defaults += (defaults.empty() ? "" : ", ") + key.name;
-            report.line("  FAIL: " + model + " [" + variant.label + "] cannot be created or evaluated with the keys above (kept at their default: " + defaults + "): " + e.what());
+            // deal.II's what() carries a stack trace; its message alone names the key.
+            std::ostringstream message;
+            if (const auto *exc = dynamic_cast<const dealii::ExceptionBase *>(&e))
+              exc->print_info(message);
+            else
+              message << e.what();
+            std::string text = message.str();
+            text.erase(0, text.find_first_not_of(" \n"));
+            text.erase(text.find_last_not_of(" \n") + 1);
+            report.line("  FAIL: " + model + " [" + variant.label +
+                        "] cannot be created or evaluated with the keys above (kept at their default: " + defaults +
+                        "): " + text);
             ++report.failures;
           }
       }

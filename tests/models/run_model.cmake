@@ -3,7 +3,7 @@
 # its checks still run, then the test fails saying where the output goes.
 if(NOT EXISTS "${EXPECTED}")
   set(missing "${EXPECTED}")
-  unset(EXPECTED)
+  unset(EXPECTED CACHE)
 endif()
 include("${CMAKE_CURRENT_LIST_DIR}/../physics/run_test.cmake")
 if(missing)
