@@ -37,9 +37,11 @@
 //     model's own K and G (PMB: G = 3K/5) is 1 within 0.2: the family is a
 //     cubic lattice of ~123 cells, not a ball, so the sums differ from the
 //     continuum's integrals (PMB: sum |xi| V = 1.099 pi delta^4) and the
-//     material is cubic (LPS: C11 - C12 is 16.5% below 2G at this horizon,
-//     physics/lps_homogeneous). Measured 0.89 to 1.04; a wrong calibration
-//     (a factor 2, a power of the horizon) is far outside.
+//     material is cubic (LPS: C11 - C12 is 16.5% below 2G and C44 11% above G
+//     at this horizon, physics/lps_homogeneous; its Surface correction, fitted
+//     to the shears xy, yz, zx, scales G by ~0.9 even deep inside). Measured
+//     0.89 to 1.04; a wrong calibration (a factor 2, a power of the horizon)
+//     is far outside.
 // (d) if add_tangent() returns true: the tangent against central finite
 //     differences of the force (Tangent::add_finite_differences, epsilon =
 //     1e-6 h) on a random state of 5% of the spacing (the geometric
