@@ -4,7 +4,6 @@
 // or Jacobian-free with the analytic diagonal blocks as preconditioner.
 
 #include <perideal/base/format.h>
-#include <perideal/base/interrupt.h>
 #include <perideal/solver/implicit_solver.h>
 
 #include <deal.II/base/mpi.h>
@@ -76,9 +75,6 @@ namespace perideal
         list.set("null space: vectors", rigid_modes.data());
         amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
         amg->initialize(matrix, list);
-        // Trilinos' first AMG set-up may put signal handlers of its own in
-        // place of pd_app's: SIGTERM must still stop after the step.
-        install_interrupt_handlers();
       }
     else
       {
