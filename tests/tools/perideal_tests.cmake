@@ -107,13 +107,18 @@ function(perideal_output_test name np)
     ${PERIDEAL_RUN} output ${checks} -- ${T_COMMAND})
 endfunction()
 
-# perideal_interrupt_test(NAME NP SIGNAL BASE_NAME PRM): pd_app on NP ranks
-# on PRM, stopped by SIGNAL (TERM, INT, KILL) once its globals CSV
-# output/BASE_NAME.globals.csv has rows. Runner mode 'interrupt'.
+# perideal_interrupt_test(NAME NP SIGNAL BASE_NAME PRM [STALLED_STDOUT]):
+# pd_app on NP ranks on PRM, stopped by SIGNAL (TERM, INT, KILL) once its
+# globals CSV output/BASE_NAME.globals.csv has rows; STALLED_STDOUT: once it
+# is blocked writing to a standard output nobody reads. Runner mode 'interrupt'.
 function(perideal_interrupt_test name np signal base prm)
   perideal_pd_app_command(run ${np})
+  set(stalled)
+  if("STALLED_STDOUT" IN_LIST ARGN)
+    set(stalled --stalled-stdout)
+  endif()
   perideal_add_test(${perideal_test_group}.${name}.np${np} ${np} 120
-    ${PERIDEAL_RUN} interrupt ${signal} ${base} ${run} ${prm})
+    ${PERIDEAL_RUN} interrupt ${stalled} ${signal} ${base} ${run} ${prm})
 endfunction()
 
 # perideal_program_test(NAME COMMAND <program and arguments>

@@ -32,7 +32,7 @@
 #     --hint TEXT        printed after a failure: how to fix it
 #   Paths in COMMAND should be absolute: the run directory is a fresh one.
 #
-# MODE interrupt SIGNAL BASE_NAME COMMAND [ARGUMENTS...]
+# MODE interrupt [--stalled-stdout] SIGNAL BASE_NAME COMMAND [ARGUMENTS...]
 #   runs COMMAND (pd_app, or mpirun -np N pd_app, on a long run whose Output
 #   writes fields and globals into output/ under BASE_NAME) in a new empty
 #   directory, waits until the globals CSV has a few rows, sends SIGNAL (TERM,
@@ -41,7 +41,8 @@
 #   - it exited by itself within the time limit, with a non-zero code (pd_app
 #     run directly: 128 + the signal),
 #   - standard error has "Error: interrupted by SIG... at step N (t = ...):
-#     the output holds steps up to N", standard output the summary,
+#     the output holds steps up to N", standard output or error the summary
+#     (standard error where standard output is not a file: mpirun's ranks),
 #   - the .pvd lists exactly the steps that have a .pvtu, the last one N,
 #   - every .pvtu's pieces exist, every .vtu is a piece of a .pvtu, and no
 #     temporary file is left,
@@ -51,7 +52,10 @@
 #   the .pvd and the .pvtu files and pieces as above (temporary files may stay,
 #   and the last .pvtu may not be in the .pvd yet),
 #   the CSV at most the .pvd's last step behind it, never ahead.
-#   Bounded: 60 s for the first rows, 20 s for the stop.
+#   --stalled-stdout: COMMAND's standard output is a pipe that nobody reads
+#   (as mpirun's terminal while it stops a job); the signal comes once the
+#   run is blocked writing to it. Standard error must then hold the summary.
+#   Bounded: 60 s for the first rows (and the block), 20 s for the stop.
 #
 # MODE check --workdir DIR [OPTIONS] -- COMMAND [ARGUMENTS...] [--- CHECK [ARGUMENTS...]]
 #   runs COMMAND in DIR (emptied first), keeps its output in DIR/run.stdout
@@ -188,6 +192,8 @@ mode_output() {
 
 # ------------------------------------------------------------- interrupt
 mode_interrupt() {
+  local stalled=
+  [[ ${1:-} == --stalled-stdout ]] && { stalled=1; shift; }
   [[ $# -ge 3 ]] || usage
   local signal=$1 base=$2
   shift 2
@@ -202,7 +208,7 @@ mode_interrupt() {
   cd "$run" || exit 2
   fail() {
     echo "--- standard output (tail):"
-    tail -n 30 "$run/out.txt"
+    tail -n 30 "$run/out.txt" 2>/dev/null
     echo "--- standard error:"
     cat "$run/err.txt"
     echo "--- files:"
@@ -212,7 +218,15 @@ mode_interrupt() {
     exit 1
   }
 
-  "$@" >out.txt 2>err.txt &
+  if [[ -n $stalled ]]; then
+    # Held open for reading and writing, never read: writes block once the
+    # pipe's 64 KiB are full.
+    mkfifo stdout.fifo
+    exec 3<>stdout.fifo
+    "$@" >stdout.fifo 2>err.txt &
+  else
+    "$@" >out.txt 2>err.txt &
+  fi
   pid=$!
   local csv=output/$base.globals.csv i rc
   for ((i = 0; i < 600; ++i)); do
@@ -220,6 +234,20 @@ mode_interrupt() {
     kill -0 "$pid" 2>/dev/null || break
     sleep 0.1
   done
+  # Blocked in write() on standard output: system call write (1 on x86_64,
+  # 64 on aarch64) on descriptor 1.
+  blocked_on_stdout() {
+    local nr fd
+    read -r nr fd _ <"/proc/$pid/syscall" 2>/dev/null || return 1
+    [[ $fd == 0x1 && ($nr == 1 || $nr == 64) ]]
+  }
+  if [[ -n $stalled ]]; then
+    for ((i = 0; i < 600; ++i)); do
+      blocked_on_stdout && break
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.1
+    done
+  fi
   if ! kill -0 "$pid" 2>/dev/null; then
     wait "$pid"
     rc=$?
@@ -227,6 +255,7 @@ mode_interrupt() {
     fail "the run ended before the signal (exit code $rc)"
   fi
   [[ -f $csv && $(wc -l <"$csv") -ge 3 ]] || fail "no globals rows after 60 s"
+  [[ -z $stalled ]] || blocked_on_stdout || fail "not blocked on its standard output after 60 s"
   local target=$pid
   [[ $signal == KILL && $(basename "$1") != pd_app ]] && target=$(pgrep -P "$pid" | tail -n 1)
   kill -"$signal" "$target"
@@ -241,6 +270,10 @@ mode_interrupt() {
   rc=$?
   pid=
   echo "exit code $rc after SIG$signal"
+  if [[ -n $stalled ]]; then
+    timeout 1 cat <&3 >out.txt
+    exec 3>&-
+  fi
 
   [[ $rc -ne 0 ]] || fail "exit code 0"
   # The steps the .pvd lists, the .pvtu files there are and the CSV rows (in output/).
@@ -287,7 +320,11 @@ mode_interrupt() {
   step=$(sed -E 's/.* at step ([0-9]+) .*/\1/' <<<"$line")
   upto=$(sed -E 's/.*steps up to ([0-9]+)$/\1/' <<<"$line")
   [[ $step -eq $upto ]] || fail "stopped at step $step, output up to $upto"
-  grep -q '^PeriDeal summary' out.txt || fail "no summary on standard output"
+  if [[ -n $stalled ]]; then
+    grep -q '^PeriDeal summary' err.txt || fail "no summary on standard error (standard output blocked)"
+  else
+    grep -q '^PeriDeal summary' out.txt err.txt || fail "no summary on standard output or error"
+  fi
 
   cd output || fail "no output directory"
   ls *.tmp >/dev/null 2>&1 && fail "temporary files left: $(ls *.tmp)"

@@ -3,8 +3,10 @@
 // forwarding, a user's Ctrl-C) only set a flag here; the integrators look at
 // it collectively once per step, finish the step, write its output and stop
 // with an Interrupted exception (pd_app: one "Error: interrupted by ..." line,
-// exit code 128 + the signal). A second signal while the first is being
-// handled ends the process at once (the default action).
+// exit code 128 + the signal). From the signal on, the console output goes to
+// standard error where standard output could block (a terminal, a pipe). A
+// second signal while the first is being handled ends the process at once
+// (the default action).
 
 #include <deal.II/base/mpi.h>
 
