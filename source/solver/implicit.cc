@@ -1,6 +1,7 @@
 // The parameters of the implicit solvers (Solver/Implicit): Newton, the
-// linear solver and its preconditioner, the re-solves while bonds break, and
-// Newmark's beta and gamma (implicit_solver.h, quasistatic.cc, newmark.cc).
+// linear solver and its preconditioner, the re-solves while bonds break
+// (implicit_solver.h, quasistatic.cc, newmark.cc; Newmark's own beta and gamma
+// are in newmark.cc).
 
 #include <perideal/solver/implicit.h>
 
@@ -60,12 +61,6 @@ namespace perideal
     prm.declare_entry("Maximum damage solves", "20", Patterns::Integer(1),
                       "After a converged solve the damage models break bonds; the step is solved "
                       "again while bonds break, at most this many times (then a warning).");
-    prm.declare_entry("Newmark beta", "0.25", Patterns::Double(0, 0.5),
-                      "Newmark's beta; 1/4 with gamma 1/2 is the trapezoidal rule: unconditionally "
-                      "stable, second order, no numerical damping.");
-    prm.declare_entry("Newmark gamma", "0.5", Patterns::Double(0, 1),
-                      "Newmark's gamma; above 1/2 damps high frequencies (unconditionally stable for "
-                      "gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4).");
   }
 
   void
@@ -86,8 +81,6 @@ namespace perideal
                 ExcMessage("Solver/Implicit/Jacobian = Matrix free needs Tangent = Analytic (its "
                            "preconditioner is the analytic tangent's diagonal)"));
     max_damage_solves  = prm.get_integer("Maximum damage solves");
-    beta               = prm.get_double("Newmark beta");
-    gamma              = prm.get_double("Newmark gamma");
     AssertThrow(tolerance > 0 || absolute_tolerance > 0,
                 ExcMessage("Solver/Implicit/Tolerance and Absolute tolerance are both 0: Newton would never stop"));
     // Both are relative: at 1 or more Newton accepts the initial guess (no
@@ -102,14 +95,5 @@ namespace perideal
                            Utilities::to_string(linear_tolerance) +
                            ": it is relative to |R|, and at 1 or more the Krylov solver returns a zero "
                            "Newton step (e.g. 1e-10)"));
-    // Below 1/2 Newmark's numerical damping is negative: the energy grows
-    // every step, whatever the step (a run of box.prm with gamma = 0: 18%
-    // energy error in two steps, exit 0).
-    AssertThrow(gamma >= 0.5,
-                ExcMessage("Solver/Implicit/Newmark gamma must be at least 0.5, got " + Utilities::to_string(gamma) +
-                           ": below it the scheme adds energy every step (unstable for any time step); "
-                           "0.5 conserves energy, more damps it"));
-    AssertThrow(beta > 0, ExcMessage("Solver/Implicit/Newmark beta must be positive (beta = 0 is the explicit "
-                                     "central difference: use Solver/Type = Verlet)"));
   }
 } // namespace perideal

@@ -6,14 +6,12 @@
 // dt^2)). Beta and gamma are Solver/Implicit/Newmark beta and gamma.
 
 #include <perideal/base/format.h>
-#include <perideal/base/interrupt.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
 #include <perideal/solver/implicit_solver.h>
 
-#include <chrono>
 
 namespace perideal
 {
@@ -22,9 +20,39 @@ namespace perideal
   class Newmark : public ImplicitIntegrator
   {
   public:
+    // Solver/Implicit/Newmark beta and gamma, next to the Newton keys they
+    // go with.
     static void
-    declare_parameters(ParameterHandler &)
-    {}
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Implicit");
+      prm.declare_entry("Newmark beta", "0.25", Patterns::Double(0, 0.5),
+                        "Newmark's beta; 1/4 with gamma 1/2 is the trapezoidal rule: unconditionally "
+                        "stable, second order, no numerical damping.");
+      prm.declare_entry("Newmark gamma", "0.5", Patterns::Double(0, 1),
+                        "Newmark's gamma; above 1/2 damps high frequencies (unconditionally stable for "
+                        "gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4).");
+      prm.leave_subsection();
+    }
+
+    void
+    parse_parameters(ParameterHandler &prm) override
+    {
+      prm.enter_subsection("Implicit");
+      beta  = prm.get_double("Newmark beta");
+      gamma = prm.get_double("Newmark gamma");
+      prm.leave_subsection();
+      // Below 1/2 Newmark's numerical damping is negative: the energy grows
+      // every step, whatever the step (a run of box.prm with gamma = 0: 18%
+      // energy error in two steps, exit 0).
+      AssertThrow(gamma >= 0.5,
+                  ExcMessage("Solver/Implicit/Newmark gamma must be at least 0.5, got " +
+                             Utilities::to_string(gamma) +
+                             ": below it the scheme adds energy every step (unstable for any time step); "
+                             "0.5 conserves energy, more damps it"));
+      AssertThrow(beta > 0, ExcMessage("Solver/Implicit/Newmark beta must be positive (beta = 0 is the explicit "
+                                       "central difference: use Solver/Type = Verlet)"));
+    }
 
     void
     check_parameters(const SolverParameters &solver, const bool has_continuum) const override
@@ -70,10 +98,8 @@ namespace perideal
 
     unsigned int n_steps = 0, step = 0;
     double       t0 = 0, beta = 0.25, gamma = 0.5;
-    unsigned int total_newton = 0, total_linear = 0;
     const std::vector<unsigned int> *fe_dofs = nullptr; // the FE DoFs that carry equations
     std::vector<double>              v_predicted, fe_v_predicted;
-    std::chrono::steady_clock::time_point start;
   };
 
   void
@@ -84,8 +110,6 @@ namespace perideal
     ContinuumField         *continuum = access->coupling ? &access->coupling->continuum : nullptr;
     n_steps                           = solver.requested_steps;
     t0                                = solver.initial_time;
-    beta                              = solver.implicit.beta;
-    gamma                             = solver.implicit.gamma;
     access->record.dt                 = (solver.final_time - solver.initial_time) / n_steps;
     access->post.output.initialize(access->comm);
     access->conditions.apply_initial_conditions(solver.initial_time);
@@ -121,7 +145,7 @@ namespace perideal
 
     v_predicted.resize(n);
     newton.u_predicted.resize(n);
-    start = std::chrono::steady_clock::now();
+    start_loop();
   }
 
   void
@@ -130,7 +154,6 @@ namespace perideal
     MechanicalState &state      = access->state;
     RunRecord       &record     = access->record;
     ConditionSet    &conditions = access->conditions;
-    Postprocess     &post       = access->post;
     ImplicitSolver  &newton     = *implicit_solver;
     ContinuumField  *continuum  = access->coupling ? &access->coupling->continuum : nullptr;
     const double     dt         = record.dt;
@@ -163,8 +186,6 @@ namespace perideal
     conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
     newton.newmark_inertia = 1 / (beta * dt * dt);
     newton.solve_step(step);
-    total_newton += record.last_newton.newton_iterations;
-    total_linear += record.last_newton.linear_iterations;
     for (unsigned int k = 0; k < n; ++k)
       {
         a[k] = (u[k] - newton.u_predicted[k]) * newton.newmark_inertia;
@@ -178,22 +199,13 @@ namespace perideal
       }
     if (continuum && continuum->hanging.n_constraints() > 0)
       continuum->hanging.distribute(continuum->V);
-    state.displacement.update_ghost_values();
-    access->model.compute_forces(true);
-    record.external_work += newton.load_path_work(step_start);
-    if (post.output.is_output_step(step, n_steps))
-      post.write_output(step, time, post.output.is_globals_step(step, n_steps),
-                        post.output.is_field_step(step, n_steps));
-    // SIGTERM, SIGINT: stop after the step (one reduction per step).
-    if (interrupt_signal(access->comm) != 0)
-      access->stop_interrupted(step, time, n_steps,
-                               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    finish_step(step_start, step, time, n_steps);
   }
 
   void
   Newmark::finish()
   {
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = loop_seconds();
     access->pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
                   << " " << access->deck.solver.implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s"
                   << std::endl;

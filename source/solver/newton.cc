@@ -4,6 +4,7 @@
 // path's work; and what QuasiStatic and Newmark share (ImplicitIntegrator).
 
 #include <perideal/base/format.h>
+#include <perideal/base/interrupt.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
@@ -454,6 +455,37 @@ namespace perideal
     AssertThrow(!has_continuum || solver.implicit.jacobian == "Assembled",
                 ExcMessage("Solver/Implicit/Jacobian: a scene with continuum blocks needs Assembled (the FE "
                            "stiffness joins the PD tangent in one matrix)"));
+  }
+
+  void
+  ImplicitIntegrator::start_loop()
+  {
+    start = std::chrono::steady_clock::now();
+  }
+
+  double
+  ImplicitIntegrator::loop_seconds() const
+  {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void
+  ImplicitIntegrator::finish_step(const ImplicitSolver::LoadPathState &step_start, const unsigned int step,
+                                  const double time, const unsigned int n_steps)
+  {
+    RunRecord   &record = access->record;
+    Postprocess &post   = access->post;
+    total_newton += record.last_newton.newton_iterations;
+    total_linear += record.last_newton.linear_iterations;
+    total_solves += record.last_damage_solves;
+    access->state.displacement.update_ghost_values();
+    access->model.compute_forces(true);
+    record.external_work += implicit_solver->load_path_work(step_start);
+    if (post.output.is_output_step(step, n_steps))
+      post.write_output(step, time, post.output.is_globals_step(step, n_steps),
+                        post.output.is_field_step(step, n_steps));
+    if (interrupt_signal(access->comm) != 0)
+      access->stop_interrupted(step, time, n_steps, loop_seconds());
   }
 
   void

@@ -7,14 +7,12 @@
 // over each step.
 
 #include <perideal/base/format.h>
-#include <perideal/base/interrupt.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
 #include <perideal/solver/implicit_solver.h>
 
-#include <chrono>
 
 namespace perideal
 {
@@ -67,8 +65,6 @@ namespace perideal
 
     unsigned int n_steps = 0, step = 0;
     double       t0 = 0, t1 = 0, dt_load = 0;
-    unsigned int total_newton = 0, total_linear = 0, total_solves = 0;
-    std::chrono::steady_clock::time_point start;
   };
 
   void
@@ -90,15 +86,13 @@ namespace perideal
 
     access->evaluate_initial_state();
     access->record_initial_state(n_steps, t0);
-    start = std::chrono::steady_clock::now();
+    start_loop();
   }
 
   void
   QuasiStatic::do_load_step()
   {
-    RunRecord       &record     = access->record;
     ConditionSet    &conditions = access->conditions;
-    Postprocess     &post       = access->post;
     const double     time       = t0 + step * dt_load;
     access->pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
     const ImplicitSolver::LoadPathState step_start = implicit_solver->load_path_state();
@@ -112,25 +106,13 @@ namespace perideal
       conditions.evaluate_loads(time);
     conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
     implicit_solver->solve_step(step);
-    total_newton += record.last_newton.newton_iterations;
-    total_linear += record.last_newton.linear_iterations;
-    total_solves += record.last_damage_solves;
-    access->state.displacement.update_ghost_values();
-    access->model.compute_forces(true);
-    record.external_work += implicit_solver->load_path_work(step_start);
-    if (post.output.is_output_step(step, n_steps))
-      post.write_output(step, time, post.output.is_globals_step(step, n_steps),
-                        post.output.is_field_step(step, n_steps));
-    // SIGTERM, SIGINT: stop after the load step (one reduction per step).
-    if (interrupt_signal(access->comm) != 0)
-      access->stop_interrupted(step, time, n_steps,
-                               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    finish_step(step_start, step, time, n_steps);
   }
 
   void
   QuasiStatic::finish()
   {
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = loop_seconds();
     Postprocess &post    = access->post;
     // The energy balance needs the final strain energy.
     if (!post.output.is_output_step(n_steps, n_steps))

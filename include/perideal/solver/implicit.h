@@ -26,8 +26,6 @@ namespace perideal
     std::string  tangent            = "Analytic";
     std::string  jacobian           = "Assembled";
     unsigned int max_damage_solves  = 20;
-    double       beta               = 0.25;
-    double       gamma              = 0.5;
 
     static void
     declare_parameters(ParameterHandler &prm);

@@ -18,6 +18,7 @@
 
 #include <deal.II/lac/trilinos_precondition.h>
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -127,7 +128,24 @@ namespace perideal
     /// A scene with continuum blocks needs the assembled Jacobian.
     static void
     check_jacobian(const SolverParameters &solver, const bool has_continuum);
+    /// The end of every accepted step, after the solve: counts its Newton
+    /// and linear iterations, evaluates the converged state (forces,
+    /// energies), adds the loads' work since @p step_start, writes the
+    /// step's output, then stops the run if a rank has received SIGTERM or
+    /// SIGINT (one reduction per step).
+    void
+    finish_step(const ImplicitSolver::LoadPathState &step_start, const unsigned int step, const double time,
+                const unsigned int n_steps);
+    /// Seconds since the loop started (start_loop()).
+    double
+    loop_seconds() const;
+    void
+    start_loop();
 
     std::unique_ptr<ImplicitSolver> implicit_solver;
+    unsigned int                    total_newton = 0, total_linear = 0, total_solves = 0;
+
+  private:
+    std::chrono::steady_clock::time_point start;
   };
 } // namespace perideal

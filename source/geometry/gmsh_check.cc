@@ -1,0 +1,354 @@
+// The checks of a Gmsh mesh before deal.II reads it (Discretization/Gmsh):
+// the file is read as the user wrote it, since deal.II inverts left-handed
+// cells and reorders vertices, and p4est crashes on cells that are not
+// hexahedra.
+
+#include <perideal/base/input.h>
+#include <perideal/geometry/gmsh_check.h>
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/base/utilities.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <vector>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    // The cells of a Gmsh mesh, read from the file as the user wrote it,
+    // before deal.II reads it (deal.II inverts left-handed cells and reorders
+    // vertices; p4est crashes on cells that are not hexahedra).
+    struct GmshCells
+    {
+      std::map<long, Point<dim>> nodes;
+      struct Element
+      {
+        long              tag;
+        int               type;
+        std::vector<long> nodes;
+      };
+      std::vector<Element> elements;
+    };
+
+    std::vector<std::string>
+    tokens(const std::string &line)
+    {
+      std::istringstream       in(line);
+      std::vector<std::string> t;
+      for (std::string w; in >> w;)
+        t.push_back(w);
+      return t;
+    }
+
+    // Reads the nodes and elements of an ASCII .msh file, format 2.2 or 4.1.
+    // false if the file is something else (binary, another version, not
+    // well formed): deal.II's reader then says what is wrong, as before.
+    bool
+    read_gmsh_cells(const std::string &file, GmshCells &mesh)
+    {
+      std::ifstream in(file);
+      std::string   line;
+      int           major = 0;
+      auto next = [&in, &line]() -> bool {
+        while (std::getline(in, line))
+          if (!Utilities::trim(line).empty())
+            return true;
+        return false;
+      };
+      try
+        {
+          while (next())
+            {
+              const std::string section = Utilities::trim(line);
+              if (section == "$MeshFormat")
+                {
+                  if (!next())
+                    return false;
+                  const auto t = tokens(line);
+                  if (t.size() < 2 || t[1] != "0")
+                    return false; // binary
+                  major = static_cast<int>(std::stod(t[0]));
+                  if (major != 2 && major != 4)
+                    return false;
+                }
+              else if (section == "$Nodes" && major == 2)
+                {
+                  if (!next())
+                    return false;
+                  const long n = std::stol(line);
+                  for (long i = 0; i < n; ++i)
+                    {
+                      if (!next())
+                        return false;
+                      const auto t = tokens(line);
+                      if (t.size() < 4)
+                        return false;
+                      mesh.nodes[std::stol(t[0])] =
+                        Point<dim>(std::stod(t[1]), std::stod(t[2]), std::stod(t[3]));
+                    }
+                }
+              else if (section == "$Nodes" && major == 4)
+                {
+                  if (!next())
+                    return false;
+                  const long blocks = std::stol(tokens(line).at(0));
+                  for (long b = 0; b < blocks; ++b)
+                    {
+                      if (!next())
+                        return false;
+                      const auto head = tokens(line);
+                      const int  entity_dim = std::stoi(head.at(0)), parametric = std::stoi(head.at(2));
+                      const long n = std::stol(head.at(3));
+                      std::vector<long> tags(n);
+                      for (long i = 0; i < n; ++i)
+                        {
+                          if (!next())
+                            return false;
+                          tags[i] = std::stol(line);
+                        }
+                      for (long i = 0; i < n; ++i)
+                        {
+                          if (!next())
+                            return false;
+                          const auto t = tokens(line);
+                          if (t.size() < 3u + (parametric ? entity_dim : 0))
+                            return false;
+                          mesh.nodes[tags[i]] =
+                            Point<dim>(std::stod(t[0]), std::stod(t[1]), std::stod(t[2]));
+                        }
+                    }
+                }
+              else if (section == "$Elements" && major == 2)
+                {
+                  if (!next())
+                    return false;
+                  const long n = std::stol(line);
+                  for (long i = 0; i < n; ++i)
+                    {
+                      if (!next())
+                        return false;
+                      const auto t = tokens(line);
+                      if (t.size() < 3 || t.size() < 3 + std::stoul(t[2]))
+                        return false;
+                      GmshCells::Element e{std::stol(t[0]), std::stoi(t[1]), {}};
+                      for (std::size_t k = 3 + std::stoul(t[2]); k < t.size(); ++k)
+                        e.nodes.push_back(std::stol(t[k]));
+                      mesh.elements.push_back(std::move(e));
+                    }
+                }
+              else if (section == "$Elements" && major == 4)
+                {
+                  if (!next())
+                    return false;
+                  const long blocks = std::stol(tokens(line).at(0));
+                  for (long b = 0; b < blocks; ++b)
+                    {
+                      if (!next())
+                        return false;
+                      const auto head = tokens(line);
+                      const int  type = std::stoi(head.at(2));
+                      const long n    = std::stol(head.at(3));
+                      for (long i = 0; i < n; ++i)
+                        {
+                          if (!next())
+                            return false;
+                          const auto t = tokens(line);
+                          if (t.empty())
+                            return false;
+                          GmshCells::Element e{std::stol(t[0]), type, {}};
+                          for (std::size_t k = 1; k < t.size(); ++k)
+                            e.nodes.push_back(std::stol(t[k]));
+                          mesh.elements.push_back(std::move(e));
+                        }
+                    }
+                }
+            }
+        }
+      catch (const std::exception &)
+        {
+          return false;
+        }
+      return major != 0;
+    }
+
+    std::string
+    point_string(const Point<dim> &p)
+    {
+      std::ostringstream s;
+      s << std::setprecision(6) << '(' << p[0] << ' ' << p[1] << ' ' << p[2] << ')';
+      return s.str();
+    }
+
+    std::string
+    to_string_short(const double x)
+    {
+      std::ostringstream s;
+      s << std::setprecision(6) << x;
+      return s.str();
+    }
+
+    // The Jacobian determinant of the trilinear map of a hexahedron with the
+    // vertices @p v in deal.II's lexicographic order, at the reference point
+    // @p t (a corner when every t[d] is 0 or 1).
+    double
+    hex_jacobian(const std::array<Point<dim>, 8> &v, const std::array<double, 3> &t)
+    {
+      Tensor<2, dim> J; // J[i][d] = dx_i / dxi_d
+      for (unsigned int c = 0; c < 8; ++c)
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            double dN = 1;
+            for (unsigned int e = 0; e < dim; ++e)
+              {
+                const bool upper = (c >> e) & 1;
+                if (e == d)
+                  dN *= upper ? 1 : -1;
+                else
+                  dN *= upper ? t[e] : 1 - t[e];
+              }
+            for (unsigned int i = 0; i < dim; ++i)
+              J[i][d] += v[c][i] * dN;
+          }
+      return determinant(J);
+    }
+  } // namespace
+
+  void
+  check_gmsh_cells(const std::string &file, const double scale)
+  {
+    GmshCells mesh;
+    if (!read_gmsh_cells(file, mesh))
+      return;
+    const std::string where = "Discretization/Gmsh/Mesh file '" + file + "'";
+    unsigned long     tets = 0, prisms = 0, pyramids = 0, hexes = 0, curved = 0, triangles = 0, quads = 0;
+    for (const auto &e : mesh.elements)
+      switch (e.type)
+        {
+          case 4: case 11: case 29: case 30: case 31: ++tets; break;
+          case 5: ++hexes; break;
+          case 12: case 17: case 92: case 93: ++curved; break;
+          case 6: case 13: case 18: case 90: case 91: ++prisms; break;
+          case 7: case 14: case 19: case 118: case 119: ++pyramids; break;
+          case 2: case 9: case 20: case 21: case 22: case 23: case 24: case 25: ++triangles; break;
+          case 3: case 10: case 16: case 36: case 37: ++quads; break;
+          default: break;
+        }
+    const std::string make_hexahedra =
+      "make an all-hexahedral first-order mesh in Gmsh: add 'Mesh.SubdivisionAlgorithm = 2;' "
+      "(every cell split into hexahedra) or build a structured mesh (Transfinite Volume and "
+      "Recombine, or Extrude with Layers and Recombine); 'Mesh.RecombineAll = 1; "
+      "Mesh.Recombine3DAll = 1;' may leave tetrahedra";
+    AssertThrow(tets + prisms + pyramids + hexes + curved > 0,
+                ExcMessage(where + " holds no volume cells (" + std::to_string(triangles) +
+                           " triangles, " + std::to_string(quads) +
+                           " quadrilaterals): a 2D mesh; PeriDeal needs a 3D mesh of hexahedra: "
+                           "mesh the volume (gmsh -3) and " + make_hexahedra));
+    if (tets + prisms + pyramids + curved > 0)
+      {
+        std::string list;
+        for (const auto &[n, what] : std::vector<std::pair<unsigned long, std::string>>{
+               {tets, "tetrahedra"}, {prisms, "prisms"}, {pyramids, "pyramids"},
+               {curved, "second-order hexahedra"}})
+          if (n > 0)
+            list += std::to_string(n) + " " + what + ", ";
+        AssertThrow(false,
+                    ExcMessage(where + " holds " + list + std::to_string(hexes) +
+                               " hexahedra: only first-order hexahedra can be used (p4est "
+                               "and the refinement work on hexahedra): " + make_hexahedra));
+      }
+
+    // The coordinates the run uses (times Scale) must be finite.
+    for (const auto &[tag, p] : mesh.nodes)
+      AssertThrow(std::isfinite(scale * p.norm()),
+                  ExcMessage(where + ": node " + std::to_string(tag) + " at " + point_string(p) +
+                             " times Discretization/Gmsh/Scale (" + to_string_short(scale) +
+                             ") is not a finite point"));
+
+    // deal.II's vertex order from Gmsh's: Gmsh goes around each face.
+    constexpr std::array<unsigned int, 8> gmsh_vertex = {{0, 1, 3, 2, 4, 5, 7, 6}};
+    const double g = 0.5 / std::sqrt(3.);
+    unsigned long bad = 0, hex_index = 0, first_index = 0;
+    long          first_tag = 0, first_node = 0;
+    Point<dim>    first_centroid;
+    double        first_value = 0, first_volume = 0;
+    for (const auto &e : mesh.elements)
+      {
+        if (e.type != 5)
+          continue;
+        ++hex_index;
+        AssertThrow(e.nodes.size() == 8,
+                    ExcMessage(where + ": element " + std::to_string(e.tag) + " is a hexahedron with " +
+                               std::to_string(e.nodes.size()) + " nodes instead of 8"));
+        std::array<Point<dim>, 8> v;
+        Point<dim>                centroid, low, high;
+        for (unsigned int c = 0; c < 8; ++c)
+          {
+            const auto it = mesh.nodes.find(e.nodes[gmsh_vertex[c]]);
+            if (it == mesh.nodes.end())
+              return; // an undefined node: deal.II's reader reports it
+            v[c] = it->second;
+            centroid += v[c] / 8;
+          }
+        low = high = v[0];
+        for (const auto &p : v)
+          for (unsigned int d = 0; d < dim; ++d)
+            low[d] = std::min(low[d], p[d]), high[d] = std::max(high[d], p[d]);
+        const double size = low.distance(high);
+        const double zero = 1e-12 * size * size * size;
+        // The Jacobian at the 8 corners and at the 8 Gauss points: of one
+        // sign in a valid cell (negative: a cell numbered left-handed, which
+        // deal.II inverts), whose volume is then the Gauss points' mean.
+        unsigned int          positive = 0, negative = 0;
+        std::array<double, 8> corner{};
+        double                volume = 0;
+        for (unsigned int q = 0; q < 16; ++q)
+          {
+            const unsigned int    c = q % 8;
+            std::array<double, 3> t;
+            for (unsigned int d = 0; d < dim; ++d)
+              t[d] = q < 8 ? ((c >> d) & 1) : 0.5 + (((c >> d) & 1) ? g : -g);
+            const double det = hex_jacobian(v, t);
+            (q < 8 ? corner[c] : volume) += (q < 8 ? det : det / 8);
+            positive += det > zero;
+            negative += det < -zero;
+          }
+        if (std::isfinite(size) && (positive == 16 || negative == 16))
+          continue;
+        if (++bad == 1)
+          {
+            first_tag      = e.tag;
+            first_index    = hex_index;
+            first_centroid = centroid;
+            first_volume   = volume;
+            // The corner to name: one against the volume's sign, or the
+            // smallest.
+            unsigned int worst = 0;
+            for (unsigned int c = 1; c < 8; ++c)
+              if ((volume >= 0 ? corner[c] : -corner[c]) < (volume >= 0 ? corner[worst] : -corner[worst]))
+                worst = c;
+            first_node  = e.nodes[gmsh_vertex[worst]];
+            first_value = corner[worst];
+          }
+      }
+    AssertThrow(bad == 0,
+                ExcMessage(where + ": " + std::to_string(bad) + " of " + std::to_string(hexes) +
+                           " hexahedra are invalid (the Jacobian is zero or changes sign in the "
+                           "cell: a twisted, folded, overlapping or flat cell, or a wrong node "
+                           "order); the first is element " + std::to_string(first_tag) +
+                           " (hexahedron " + std::to_string(first_index) + " in the file) at " +
+                           point_string(first_centroid) +
+                           (scale != 1 ? " (the file's coordinates, before Scale)" : "") +
+                           ", volume " + to_string_short(first_volume) + ", Jacobian " +
+                           to_string_short(first_value) + " at its node " + std::to_string(first_node) +
+                           ": fix the mesh, e.g. move its nodes back or untangle it in Gmsh"));
+  }
+} // namespace perideal
