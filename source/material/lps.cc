@@ -180,19 +180,17 @@ namespace perideal
           gamma.local_element(i) = (3 * K - 5 * g * G) * inverse;
           D.local_element(i)     = std::abs(3 * K - 5 * g * G) * inverse * Ai * inverse;
         }
-      state.fields.get("dilatation");
     }
 
-    std::vector<std::string>
-    constant_fields() const override
+    std::vector<PointField>
+    point_fields() const override
     {
-      return {"weighted_volume", "lps_beta", "lps_gamma", "lps_coupling"};
-    }
-
-    std::vector<std::string>
-    stage_fields() const override
-    {
-      return {"lps_alpha"};
+      return {{"dilatation", FieldUse::local, 1, "Dilatation"},
+              {"weighted_volume", FieldUse::constant, 1, "Weighted volume"},
+              {"lps_beta", FieldUse::constant},
+              {"lps_gamma", FieldUse::constant},
+              {"lps_coupling", FieldUse::constant},
+              {"lps_alpha", FieldUse::stage}};
     }
 
     void

@@ -94,10 +94,10 @@ namespace perideal
       uniform_known = false;
     }
 
-    std::vector<std::string>
-    constant_fields() const override
+    std::vector<PointField>
+    point_fields() const override
     {
-      return {"pmb_micromodulus"};
+      return {{"pmb_micromodulus", FieldUse::constant}};
     }
 
     void

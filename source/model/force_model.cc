@@ -9,12 +9,28 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 #include <typeinfo>
 
 namespace perideal
 {
   using namespace dealii;
+
+  std::vector<std::pair<std::string, std::string>>
+  model_output_fields()
+  {
+    std::vector<std::pair<std::string, std::string>> out;
+    const auto add = [&](const std::vector<PointField> &fields) {
+      for (const auto &f : fields)
+        if (!f.output_name.empty() &&
+            std::none_of(out.begin(), out.end(), [&](const auto &o) { return o.first == f.output_name; }))
+          out.emplace_back(f.output_name, f.name);
+    };
+    for (const auto &[name, entry] : Registry<Material>::instance().all())
+      add(entry.create()->point_fields());
+    for (const auto &[name, entry] : Registry<DamageModel>::instance().all())
+      add(entry.create()->point_fields());
+    return out;
+  }
 
   ForceModel::ForceModel(Discretization &discretization, MechanicalState &mechanical, RunRecord &record,
                          const MPI_Comm comm, TimerOutput &timer)
@@ -81,7 +97,26 @@ namespace perideal
       mechanical.mass_density[i] = discretization.is_virtual(i) ? 0.0 : blocks[cloud.block[i]].material->density(); // virtual: no mass of their own
 
     ModelState state{cloud, bonds, nullptr, mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
-    std::set<std::string> constant, stage;
+    has_stage_fields = false;
+    for (const auto &block : blocks)
+      {
+        std::vector<PointField> point = block.material->point_fields();
+        std::vector<BondField>  bond  = block.material->bond_fields();
+        if (block.damage)
+          {
+            const auto damage_point = block.damage->point_fields();
+            const auto damage_bond  = block.damage->bond_fields();
+            point.insert(point.end(), damage_point.begin(), damage_point.end());
+            bond.insert(bond.end(), damage_bond.begin(), damage_bond.end());
+          }
+        for (const auto &f : point)
+          {
+            fields->declare(f);
+            has_stage_fields |= f.use == FieldUse::stage;
+          }
+        for (const auto &f : bond)
+          fields->declare(f, bonds.n_bonds());
+      }
     fused_breaking.clear();
     for (unsigned int b = 0; b < blocks.size(); ++b)
       {
@@ -94,10 +129,6 @@ namespace perideal
         if (blocks[b].damage)
           blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
         fused_breaking.emplace_back();
-        for (const auto &f : blocks[b].material->constant_fields())
-          constant.insert(f);
-        for (const auto &f : blocks[b].material->stage_fields())
-          stage.insert(f);
       }
     {
       std::vector<double> critical_stretch(blocks.size(), 0.0);
@@ -109,11 +140,9 @@ namespace perideal
         if (stretch_limits.common_limit(b) > 0 && blocks[b].material->fuses_stretch_criterion())
           fused_breaking[b] = {stretch_limits.common_limit(b), broken.data(), 0};
     }
-    for (const auto &f : constant)
-      fields->get(f).update_ghost_values();
-    for (const auto &f : stage)
-      fields->get(f); // allocate before the loop: no allocation per step
-    ghosted_stage_fields.assign(stage.begin(), stage.end());
+    fields->update_ghost_values(FieldUse::constant);
+    // The history starts from the initial state.
+    fields->commit();
   }
 
   bool
@@ -167,11 +196,10 @@ namespace perideal
       for (unsigned int k = 0; k < blocks.size(); ++k)
         blocks[k].material->compute_stage(block_state(k), blocks[k].points);
     }
-    if (!ghosted_stage_fields.empty())
+    if (has_stage_fields)
       {
         TimerOutput::Scope t(timer, "ghost exchange");
-        for (const auto &f : ghosted_stage_fields)
-          fields->get(f).update_ghost_values();
+        fields->update_ghost_values(FieldUse::stage);
       }
     {
       TimerOutput::Scope t(timer, "force");

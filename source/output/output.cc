@@ -16,21 +16,20 @@ namespace perideal
 {
   using namespace dealii;
 
-  const std::vector<std::string> &
-  OutputWriter::variable_names()
+  std::vector<std::string>
+  OutputWriter::variable_names(const std::vector<std::string> &model_fields)
   {
-    static const std::vector<std::string> names = {
-      "Displacement", "Velocity", "Acceleration", "Force density",
-      "Damage", "Dilatation", "Weighted volume", "Number of neighbors",
-      "Block", "Rank"};
+    std::vector<std::string> names = {"Displacement", "Velocity", "Acceleration", "Force density", "Damage"};
+    names.insert(names.end(), model_fields.begin(), model_fields.end());
+    names.insert(names.end(), {"Number of neighbors", "Block", "Rank"});
     return names;
   }
 
   void
-  OutputWriter::declare_parameters(ParameterHandler &prm)
+  OutputWriter::declare_parameters(ParameterHandler &prm, const std::vector<std::string> &model_fields)
   {
     std::string selection;
-    for (const auto &n : variable_names())
+    for (const auto &n : variable_names(model_fields))
       selection += (selection.empty() ? "" : "|") + n;
     prm.declare_entry("Directory", "output", Patterns::Anything(),
                       "Where output goes; created if missing. Every run (not --dry-run) first writes "

@@ -208,8 +208,8 @@ namespace perideal
       const VectorType *values = model.field(field);
       return [values](unsigned int i) { return values ? values->local_element(i) : 0.0; };
     };
-    cell_field("Dilatation", field_or_zero("dilatation"));
-    cell_field("Weighted volume", field_or_zero("weighted_volume"));
+    for (const auto &[output_name, field] : model_output_fields())
+      cell_field(output_name, field_or_zero(field));
     cell_field("Number of neighbors", [&](unsigned int i) { return double(bonds.offsets[i + 1] - bonds.offsets[i]); });
     cell_field("Block", [&](unsigned int i) { return double(cloud.block[i]); });
     if (has_continuum && output.wants("Block"))

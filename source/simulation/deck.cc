@@ -1,6 +1,7 @@
 // The parameter file: declared from the registries, read in three passes
 // (base/input.h), parsed into a Deck.
 
+#include <perideal/model/force_model.h>
 #include <perideal/simulation/deck.h>
 #include <perideal/solver/time_integrator.h>
 
@@ -119,7 +120,10 @@ namespace perideal
     prm.leave_subsection();
 
     prm.enter_subsection("Output");
-    OutputWriter::declare_parameters(prm);
+    std::vector<std::string> model_fields;
+    for (const auto &f : model_output_fields())
+      model_fields.push_back(f.first);
+    OutputWriter::declare_parameters(prm, model_fields);
     prm.leave_subsection();
   }
 

@@ -480,6 +480,10 @@ namespace perideal
     total_solves += record.last_damage_solves;
     access->state.displacement.update_ghost_values();
     access->model.compute_forces(true);
+    // The converged state is the step's: its history is the next step's start
+    // (Newton's iterations and line searches each recomputed it from the last
+    // commit).
+    access->model.commit_step();
     record.external_work += implicit_solver->load_path_work(step_start);
     if (post.output.is_output_step(step, n_steps))
       post.write_output(step, time, post.output.is_globals_step(step, n_steps),

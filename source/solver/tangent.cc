@@ -13,27 +13,6 @@ namespace perideal
   using Index = types::global_dof_index;
 
   void
-  TangentRows::add(const unsigned int row, const unsigned int *cols, const double *blocks, const unsigned int n)
-  {
-    used                     = true;
-    const unsigned int  r    = row_of[row];
-    const unsigned int *base = column.data();
-    const unsigned int *first = base + start[r], *last = base + start[r + 1];
-    for (unsigned int k = 0; k < n; ++k)
-      {
-        const unsigned int *it = std::lower_bound(first, last, cols[k]);
-        if (it == last || *it != cols[k])
-          {
-            AssertThrow(diagonal_only, ExcInternalError());
-            continue;
-          }
-        double *v = value.data() + 9 * (it - base);
-        for (unsigned int q = 0; q < 9; ++q)
-          v[q] += blocks[9 * k + q];
-      }
-  }
-
-  void
   Tangent::reinit(const PointCloud &cloud_, const Bonds &bonds, const unsigned int hops_, const MPI_Comm comm_)
   {
     AssertThrow(hops_ == 1 || hops_ == 2, ExcMessage("the tangent couples over 1 or 2 bonds"));

@@ -438,6 +438,8 @@ namespace perideal
         TimerOutput::Scope t(timer, "dissipation");
         record.dissipated_energy += model.released_energy(broken_before);
       }
+    // The step's one evaluation is the accepted one.
+    model.commit_step();
     if (sums[2] > 0)
       {
         // Name the condition (collective), then stop.

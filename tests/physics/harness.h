@@ -117,6 +117,8 @@ namespace pdtest
           materials.push_back(entry.create());
           materials.back()->parse_parameters(prm, "test material");
           materials.back()->set_block(b, horizons[b]);
+          for (const auto &f : materials.back()->point_fields())
+            fields->declare(f);
           materials.back()->initialize(state(false), block_points[b]);
         }
       material = materials[0].get();
@@ -128,10 +130,7 @@ namespace pdtest
           if (!material->weight_energy(state(false), points, w.data()))
             throw std::runtime_error(spec.model + " cannot weight its energy");
         }
-      for (const auto &f : material->constant_fields())
-        fields->get(f).update_ghost_values();
-      for (const auto &f : material->stage_fields())
-        fields->get(f);
+      fields->update_ghost_values(perideal::FieldUse::constant);
     }
 
     perideal::ModelState
@@ -177,8 +176,7 @@ namespace pdtest
       const auto s = state(with_energy);
       for (unsigned int b = 0; b < materials.size(); ++b)
         materials[b]->compute_stage(s, block_points[b]);
-      for (const auto &f : material->stage_fields())
-        fields->get(f).update_ghost_values();
+      fields->update_ghost_values(perideal::FieldUse::stage);
       for (unsigned int b = 0; b < materials.size(); ++b)
         materials[b]->compute_force(s, block_points[b]);
     }

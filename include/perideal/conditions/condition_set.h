@@ -7,7 +7,7 @@
 
 #include <perideal/conditions/boundary_conditions.h>
 #include <perideal/discretization/discretization.h>
-#include <perideal/solver/state.h>
+#include <perideal/model/state.h>
 
 #include <cstdint>
 #include <vector>

@@ -27,6 +27,20 @@ namespace perideal
     virtual void
     initialize(const Material &material, const double horizon) = 0;
 
+    /// The per-point and per-bond fields this model keeps (field_store.h),
+    /// allocated by the core as a material's: an energy-based or
+    /// history-dependent law keeps its state there.
+    virtual std::vector<PointField>
+    point_fields() const
+    {
+      return {};
+    }
+    virtual std::vector<BondField>
+    bond_fields() const
+    {
+      return {};
+    }
+
     /// Breaks bonds of @p points: sets broken[b] = 1. Returns how many broke.
     virtual std::size_t
     update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const = 0;

@@ -1,20 +1,23 @@
 #pragma once
 // The Material interface: force density on the owned points of one block.
 //
-// A material is serial code over flat arrays; it never calls MPI. A material
-// whose force needs a neighbor's derived value (LPS: the dilatation) computes
-// it in compute_stage() into a named per-point field that it lists in
-// stage_fields(); the core makes those fields ghosted before compute_force().
-// Constant per-point fields filled in initialize() and listed in
-// constant_fields() are made ghosted once, after set-up.
+// A material is serial code over flat arrays; it never calls MPI. The state it
+// keeps beyond the displacement it declares in point_fields() and
+// bond_fields() (field_store.h): constant fields filled in initialize(),
+// stage fields that compute_stage() fills and the core ghosts before
+// compute_force() (a neighbor's derived value, as LPS's dilatation terms),
+// local results, and history with N and NP1 copies that the integrators
+// commit once per accepted step. A field with an output name is one of
+// Output/Variables.
 //
 // A new model is one file in source/material/ with PERIDEAL_REGISTER(Material,
 // ClassName, "Name", "documentation") at its bottom; nothing else changes.
 
 #include <perideal/base/input.h>
 #include <perideal/discretization/point_cloud.h>
+#include <perideal/material/field_store.h>
 #include <perideal/neighborhood/bonds.h>
-#include <perideal/solver/tangent_rows.h>
+#include <perideal/material/tangent_rows.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
 
@@ -28,39 +31,6 @@
 
 namespace perideal
 {
-  using VectorType = dealii::LinearAlgebra::distributed::Vector<double>;
-
-  /// Named scalar per-point fields on the point partitioner, made on demand.
-  class FieldStore
-  {
-  public:
-    explicit FieldStore(const PointCloud &cloud)
-      : cloud(cloud)
-    {}
-
-    VectorType &
-    get(const std::string &name)
-    {
-      auto it = fields.find(name);
-      if (it == fields.end())
-        it = fields.emplace(name, VectorType(cloud.scalar_partitioner)).first;
-      return it->second;
-    }
-
-    bool
-    has(const std::string &name) const
-    {
-      return fields.count(name) > 0;
-    }
-
-    std::size_t
-    memory_consumption() const;
-
-  private:
-    const PointCloud                 &cloud;
-    std::map<std::string, VectorType> fields;
-  };
-
   /// Bond breaking by a stretch criterion, done inside a material's first bond
   /// pass instead of a separate pass over all bonds (see Material::
   /// fuses_stretch_criterion()). Bond b of point i breaks for good when
@@ -208,20 +178,25 @@ namespace perideal
     virtual void
     initialize(const ModelState &, const std::vector<unsigned int> &)
     {}
-    virtual std::vector<std::string>
-    constant_fields() const
+    /// The per-point fields this material uses (field_store.h), allocated by
+    /// the core before initialize().
+    virtual std::vector<PointField>
+    point_fields() const
+    {
+      return {};
+    }
+    /// The per-bond history fields this material uses.
+    virtual std::vector<BondField>
+    bond_fields() const
     {
       return {};
     }
 
+    /// The first pass of an evaluation: fills the stage (and local) fields
+    /// compute_force() needs, ghosts then made current by the core.
     virtual void
     compute_stage(const ModelState &, const std::vector<unsigned int> &) const
     {}
-    virtual std::vector<std::string>
-    stage_fields() const
-    {
-      return {};
-    }
 
     /// Adds the force density of every point in @p points to state.force
     /// and, if state.energy is set, writes its strain energy density.

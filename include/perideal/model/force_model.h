@@ -9,7 +9,7 @@
 #include <perideal/damage/damage_model.h>
 #include <perideal/material/material.h>
 #include <perideal/model/block.h>
-#include <perideal/solver/state.h>
+#include <perideal/model/state.h>
 
 #include <deal.II/base/timer.h>
 
@@ -21,6 +21,13 @@
 namespace perideal
 {
   class Coupling;
+
+  /// The scalar fields every registered material and damage model offers as
+  /// output: (Output/Variables name, field name), in registry order, each
+  /// output name once. Written for every run (0 where a block's model does
+  /// not have it).
+  std::vector<std::pair<std::string, std::string>>
+  model_output_fields();
 
   class ForceModel
   {
@@ -74,11 +81,25 @@ namespace perideal
     std::size_t
     break_bonds();
 
-    /// A per-point field a material offers ("dilatation"), or nullptr.
+    /// The step is accepted: every model's history becomes the state the
+    /// next step starts from (FieldStore::commit()). The integrators call
+    /// it exactly once per accepted step, never inside a Newton iteration.
+    void
+    commit_step()
+    {
+      fields->commit();
+    }
+    /// A per-point field a model declared, or nullptr.
     const VectorType *
     field(const std::string &name) const
     {
       return fields && fields->has(name) ? &fields->get(name) : nullptr;
+    }
+    /// The whole store (a model's history, for tests and output).
+    FieldStore &
+    field_store()
+    {
+      return *fields;
     }
     std::size_t
     field_memory() const
@@ -100,7 +121,7 @@ namespace perideal
     MPI_Comm                 comm;
     dealii::TimerOutput     &timer;
     std::unique_ptr<FieldStore> fields;
-    std::vector<std::string>    ghosted_stage_fields;
+    bool                        has_stage_fields = false;
     // Per block: the critical stretch its material applies in its force loop
     // (squared_limit 0: not fused, damage_pass() runs its own pass).
     std::vector<StretchBreaking> fused_breaking;

@@ -23,15 +23,16 @@ namespace perideal
   class OutputWriter
   {
   public:
-    /// Declared inside subsection "Output".
+    /// Declared inside subsection "Output"; @p model_fields: the output
+    /// names of the fields the registered models declare (model_output_fields()).
     static void
-    declare_parameters(ParameterHandler &prm);
+    declare_parameters(ParameterHandler &prm, const std::vector<std::string> &model_fields);
     void
     parse_parameters(ParameterHandler &prm);
 
-    /// The output variables a user can ask for.
-    static const std::vector<std::string> &
-    variable_names();
+    /// The output variables a user can ask for: the core's and the models'.
+    static std::vector<std::string>
+    variable_names(const std::vector<std::string> &model_fields);
 
     bool
     wants(const std::string &variable) const

@@ -7,7 +7,7 @@
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/neighborhood/bonds.h>
 #include <perideal/output/output.h>
-#include <perideal/solver/state.h>
+#include <perideal/model/state.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>

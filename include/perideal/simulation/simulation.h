@@ -6,7 +6,7 @@
 // others through a SimulatorAccess.
 
 #include <perideal/simulation/deck.h>
-#include <perideal/solver/state.h>
+#include <perideal/model/state.h>
 #include <perideal/solver/time_integrator.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -37,14 +37,16 @@ namespace perideal
     void
     run();
 
+    /// The parts (after run() or dry_run()): what the integrator sees, and a
+    /// program that drives or inspects a run.
+    SimulatorAccess
+    access();
+
   private:
     /// Mesh, points, bonds (rebalanced by bonds on several ranks), models,
     /// coupling, conditions, computes, the integrator's time step.
     void
     setup(const bool dry_run_mode);
-    /// The parts, for the integrator (after setup()).
-    SimulatorAccess
-    access();
 
     MPI_Comm                   comm;
     dealii::ConditionalOStream pcout;

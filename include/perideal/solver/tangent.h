@@ -28,7 +28,7 @@
 #include <perideal/base/input.h>
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/neighborhood/bonds.h>
-#include <perideal/solver/tangent_rows.h>
+#include <perideal/material/tangent_rows.h>
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/lac/la_parallel_vector.h>

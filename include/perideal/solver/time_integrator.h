@@ -9,7 +9,7 @@
 // CMakeLists.txt.
 
 #include <perideal/base/input.h>
-#include <perideal/solver/state.h>
+#include <perideal/model/state.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>

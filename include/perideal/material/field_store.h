@@ -1,0 +1,137 @@
+#pragma once
+// The per-point and per-bond state that models keep, by name: what a material
+// or damage model declares (PointField, BondField) the core allocates, ghosts
+// and commits, and never names itself.
+//
+// - constant: filled in Material::initialize(), ghosted once after set-up
+//   (LPS: the weighted volume);
+// - stage: computed in compute_stage() at every evaluation, ghosted before
+//   compute_force() (LPS: its alpha);
+// - local: computed at every evaluation for the owned points, never
+//   exchanged (LPS: the dilatation, for output);
+// - history: two copies, N (the last accepted step, old()) and NP1 (the trial
+//   of the step being solved, get()). A model computes NP1 from N at every
+//   evaluation, so Newton iterations and line searches may evaluate as often
+//   as they like, and a trial state that is not accepted leaves nothing
+//   behind: commit() (N = NP1) runs once per accepted step. History fields
+//   are not ghosted.
+// A point field has 1 (scalar), 3 (vector), 6 (symmetric 3x3: xx yy zz xy yz
+// xz) or 9 (3x3, row-major) components per point: component k of local point
+// i is local_element(components * i + k), ghosts included.
+
+#include <perideal/discretization/point_cloud.h>
+
+#include <deal.II/base/partitioner.h>
+#include <deal.II/lac/la_parallel_vector.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  using VectorType = dealii::LinearAlgebra::distributed::Vector<double>;
+
+  enum class FieldUse
+  {
+    constant,
+    stage,
+    local,
+    history
+  };
+
+  /// A per-point field a model declares (Material::point_fields()).
+  struct PointField
+  {
+    std::string  name;           // the store's key, e.g. "dilatation"
+    FieldUse     use        = FieldUse::stage;
+    unsigned int components = 1; // 1, 3, 6 or 9
+    /// The name in Output/Variables (cell data of the field files; a scalar
+    /// field only), empty if the field is internal.
+    std::string output_name = "";
+  };
+
+  /// A per-bond history value (a plastic stretch, a damage variable), one
+  /// double per bond, N and NP1 as a history point field.
+  struct BondField
+  {
+    std::string name;
+  };
+
+  class FieldStore
+  {
+  public:
+    explicit FieldStore(const PointCloud &cloud)
+      : cloud(cloud)
+    {}
+
+    /// Allocates a declared field (zero). Declaring a name again with the same
+    /// use and components is allowed (several blocks of one model); anything
+    /// else is an error naming both.
+    void
+    declare(const PointField &field);
+    /// Allocates a per-bond history field of @p n_bonds entries (zero).
+    void
+    declare(const BondField &field, const std::size_t n_bonds);
+
+    /// The field @p name (for a history field its NP1 copy); a name no
+    /// model declared is an error.
+    VectorType &
+    get(const std::string &name)
+    {
+      return entry(name).now;
+    }
+
+    /// N, the last accepted step's copy of history field @p name.
+    const VectorType &
+    old(const std::string &name) const;
+
+    /// Per-bond history field @p name: NP1 (writable) and N.
+    double *
+    bond(const std::string &name);
+    const double *
+    bond_old(const std::string &name) const;
+
+    bool
+    has(const std::string &name) const
+    {
+      return fields.count(name) > 0;
+    }
+    unsigned int
+    components(const std::string &name) const;
+
+    /// Makes the ghost entries of every field of @p use current. Collective.
+    void
+    update_ghost_values(const FieldUse use);
+
+    /// The step is accepted: N = NP1 for every history field.
+    void
+    commit();
+
+    std::size_t
+    memory_consumption() const;
+
+  private:
+    struct Entry
+    {
+      PointField spec;
+      VectorType now, old; // old: history fields only
+    };
+    Entry &
+    entry(const std::string &name);
+    struct BondEntry
+    {
+      std::vector<double> now, old;
+    };
+
+    /// The point partitioner with @p components entries per point.
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner>
+    partitioner(const unsigned int components);
+
+    const PointCloud                                                                     &cloud;
+    std::map<std::string, Entry>                                                          fields;
+    std::map<std::string, BondEntry>                                                      bond_fields;
+    std::map<unsigned int, std::shared_ptr<const dealii::Utilities::MPI::Partitioner>> partitioners;
+  };
+} // namespace perideal

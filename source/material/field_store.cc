@@ -1,0 +1,163 @@
+#include <perideal/material/field_store.h>
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/index_set.h>
+
+#include <algorithm>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    std::string
+    use_name(const FieldUse use)
+    {
+      switch (use)
+        {
+          case FieldUse::constant:
+            return "constant";
+          case FieldUse::stage:
+            return "stage";
+          case FieldUse::local:
+            return "local";
+          case FieldUse::history:
+            return "history";
+        }
+      return "";
+    }
+  } // namespace
+
+  std::shared_ptr<const Utilities::MPI::Partitioner>
+  FieldStore::partitioner(const unsigned int c)
+  {
+    if (c == 1)
+      return cloud.scalar_partitioner;
+    auto it = partitioners.find(c);
+    if (it != partitioners.end())
+      return it->second;
+    // Point p's entries are c p .. c p + c - 1: the scalar partitioner's sets
+    // stretched, so ghosts keep the point cloud's local order.
+    const auto    &scalar = *cloud.scalar_partitioner;
+    const IndexSet &owned = scalar.locally_owned_range(), &ghost = scalar.ghost_indices();
+    IndexSet        owned_c(c * owned.size()), ghost_c(c * owned.size());
+    for (auto range = owned.begin_intervals(); range != owned.end_intervals(); ++range)
+      owned_c.add_range(c * *range->begin(), c * (range->last() + 1));
+    for (auto range = ghost.begin_intervals(); range != ghost.end_intervals(); ++range)
+      ghost_c.add_range(c * *range->begin(), c * (range->last() + 1));
+    owned_c.compress();
+    ghost_c.compress();
+    const MPI_Comm comm = scalar.get_mpi_communicator();
+    auto           made = owned.size() == 0 ? std::make_shared<Utilities::MPI::Partitioner>(owned_c, comm) :
+                                              std::make_shared<Utilities::MPI::Partitioner>(owned_c, ghost_c, comm);
+    return partitioners.emplace(c, made).first->second;
+  }
+
+  void
+  FieldStore::declare(const PointField &field)
+  {
+    AssertThrow(field.components == 1 || field.components == 3 || field.components == 6 || field.components == 9,
+                ExcMessage("field '" + field.name + "': " + std::to_string(field.components) +
+                           " components per point; a field has 1, 3, 6 or 9"));
+    AssertThrow(field.output_name.empty() || field.components == 1,
+                ExcMessage("field '" + field.name + "': only scalar fields are written as output"));
+    const auto it = fields.find(field.name);
+    if (it != fields.end())
+      {
+        const PointField &had = it->second.spec;
+        AssertThrow(had.use == field.use && had.components == field.components,
+                    ExcMessage("two models declare the field '" + field.name + "' differently (" +
+                               use_name(had.use) + ", " + std::to_string(had.components) + " components; " +
+                               use_name(field.use) + ", " + std::to_string(field.components) +
+                               "): one of them must rename it"));
+        return;
+      }
+    Entry &e = fields[field.name];
+    e.spec   = field;
+    e.now.reinit(partitioner(field.components));
+    if (field.use == FieldUse::history)
+      e.old.reinit(e.now.get_partitioner());
+  }
+
+  void
+  FieldStore::declare(const BondField &field, const std::size_t n_bonds)
+  {
+    BondEntry &e = bond_fields[field.name];
+    e.now.assign(n_bonds, 0.0);
+    e.old.assign(n_bonds, 0.0);
+  }
+
+  FieldStore::Entry &
+  FieldStore::entry(const std::string &name)
+  {
+    const auto it = fields.find(name);
+    AssertThrow(it != fields.end(),
+                ExcMessage("the per-point field '" + name +
+                           "' was not declared: a model lists the fields it uses in point_fields()"));
+    return it->second;
+  }
+
+  const VectorType &
+  FieldStore::old(const std::string &name) const
+  {
+    const auto it = fields.find(name);
+    AssertThrow(it != fields.end() && it->second.spec.use == FieldUse::history,
+                ExcMessage("'" + name + "' is not a declared history field"));
+    return it->second.old;
+  }
+
+  double *
+  FieldStore::bond(const std::string &name)
+  {
+    const auto it = bond_fields.find(name);
+    AssertThrow(it != bond_fields.end(),
+                ExcMessage("the per-bond field '" + name +
+                           "' was not declared: a model lists the fields it uses in bond_fields()"));
+    return it->second.now.data();
+  }
+
+  const double *
+  FieldStore::bond_old(const std::string &name) const
+  {
+    const auto it = bond_fields.find(name);
+    AssertThrow(it != bond_fields.end(), ExcMessage("'" + name + "' is not a declared per-bond field"));
+    return it->second.old.data();
+  }
+
+  unsigned int
+  FieldStore::components(const std::string &name) const
+  {
+    const auto it = fields.find(name);
+    return it == fields.end() ? 0 : it->second.spec.components;
+  }
+
+  void
+  FieldStore::update_ghost_values(const FieldUse use)
+  {
+    for (auto &[name, e] : fields)
+      if (e.spec.use == use)
+        e.now.update_ghost_values();
+  }
+
+  void
+  FieldStore::commit()
+  {
+    for (auto &[name, e] : fields)
+      if (e.spec.use == FieldUse::history)
+        e.old = e.now;
+    for (auto &[name, e] : bond_fields)
+      std::copy(e.now.begin(), e.now.end(), e.old.begin());
+  }
+
+  std::size_t
+  FieldStore::memory_consumption() const
+  {
+    std::size_t bytes = 0;
+    for (const auto &[name, e] : fields)
+      bytes += e.now.memory_consumption() + (e.spec.use == FieldUse::history ? e.old.memory_consumption() : 0);
+    for (const auto &[name, e] : bond_fields)
+      bytes += (e.now.capacity() + e.old.capacity()) * sizeof(double);
+    return bytes;
+  }
+} // namespace perideal
