@@ -11,6 +11,7 @@
 
 namespace
 {
+  using namespace dealii;
   using namespace perideal;
 
   /// A linear repulsion within a fixed radius.
