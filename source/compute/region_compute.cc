@@ -1,7 +1,8 @@
 #include <perideal/compute/region_compute.h>
 
-#include <algorithm>
-#include <limits>
+#include <perideal/continuum/continuum_field.h>
+
+#include <cmath>
 
 namespace perideal
 {
@@ -13,21 +14,13 @@ namespace perideal
     prm.declare_entry("Region", "All", Patterns::Anything(),
                       "Name of a region of Discretization/Regions, or All. It must hold at least one point "
                       "(or FE node): over nothing a compute has no value, and the run stops.");
-    prm.declare_entry("Variable", "Displacement x",
-                      Patterns::Selection("Displacement x|Displacement y|Displacement z|Force x|Force y|Force z|"
-                                        "Position x|Position y|Position z|Damage|Bond stretch|Kinetic energy"),
-                      "Displacement: of a point. Force: the force on a point, V f (force density times "
-                      "volume), internal plus body force; its sum over a region of prescribed points is "
-                      "minus the reaction there. Position: the reference position of a point (with "
-                      "Mean: where a region's mean displacement is taken, e.g. for the length of a "
-                      "virtual strain gauge). Damage: point damage. Bond stretch: the largest stretch "
-                      "(|y| - |xi|)/|xi| of a point's intact bonds (with Maximum: how close the region "
-                      "is to a critical stretch). Kinetic energy: 1/2 rho V |v|^2 of a point. In continuum "
-                      "blocks the FE nodes of the region count too: their displacement, their nodal force "
-                      "(internal plus body force), their position, 1/2 M v^2 with the lumped mass; damage "
-                      "and bond stretch are defined at PD points only.");
-    prm.declare_entry("Operation", "Sum", Patterns::Selection("Sum|Mean|Minimum|Maximum"),
-                      "Mean is volume weighted: sum V q / sum V.");
+    prm.declare_entry("Variable", "Displacement x", Registry<PointQuantity>::instance().selection(),
+                      Registry<PointQuantity>::instance().documentation() +
+                        " In continuum blocks the FE nodes of the region count too: their displacement, their "
+                        "nodal force (internal plus body force), their position, 1/2 M v^2 with the lumped "
+                        "mass; damage and bond stretch are defined at PD points only.");
+    prm.declare_entry("Operation", "Sum", Registry<Reduction>::instance().selection(),
+                      Registry<Reduction>::instance().documentation());
     prm.declare_entry("Reference", "", Patterns::Anything(),
                       "An expression in x, y, z (the reference position of the point or FE node) and t. "
                       "If set, the compute takes |q - reference| instead of q: the error against an "
@@ -44,44 +37,30 @@ namespace perideal
     reference.reset();
     if (!prm.get("Reference").empty())
       reference = std::make_shared<Expression>(prm.get("Reference"), path + "/Reference");
-    component = 0;
-    if (variable.size() > 2 && variable[variable.size() - 2] == ' ')
-      component = variable.back() - 'x';
+    quantity  = Registry<PointQuantity>::instance().create(variable, path + "/Variable");
+    reduction = Registry<Reduction>::instance().create(operation, path + "/Operation");
   }
 
   double
-  RegionCompute::evaluate(const std::function<double(unsigned int)> &value,
-                          const std::vector<double>                 &volume,
-                          const MPI_Comm                             comm,
-                          const std::function<double(unsigned int)> &node_value,
-                          const std::function<double(unsigned int)> &node_volume) const
+  RegionCompute::evaluate(const ComputeData &data, const double time, const MPI_Comm comm) const
   {
-    const bool with_nodes = node_value && !nodes.empty();
-    if (operation == "Minimum" || operation == "Maximum")
-      {
-        const double sign = operation == "Minimum" ? 1 : -1;
-        double       best = std::numeric_limits<double>::max();
-        for (const unsigned int i : points)
-          best = std::min(best, sign * value(i));
-        if (with_nodes)
-          for (const unsigned int k : nodes)
-            best = std::min(best, sign * node_value(k));
-        return sign * Utilities::MPI::min(best, comm);
-      }
-    double sums[2] = {0, 0};
+    std::vector<double> q, V;
+    q.reserve(points.size() + nodes.size());
+    V.reserve(points.size() + nodes.size());
     for (const unsigned int i : points)
       {
-        sums[0] += (operation == "Mean" ? volume[i] : 1.0) * value(i);
-        sums[1] += volume[i];
+        const double value = quantity->value(data, i);
+        q.push_back(reference ? std::abs(value - reference->value(data.cloud.position(i), time)) : value);
+        V.push_back(data.cloud.volume[i]);
       }
-    if (with_nodes)
-      for (const unsigned int k : nodes)
-        {
-          const double V = node_volume(k);
-          sums[0] += (operation == "Mean" ? V : 1.0) * node_value(k);
-          sums[1] += V;
-        }
-    Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
-    return operation == "Mean" ? (sums[1] > 0 ? sums[0] / sums[1] : 0) : sums[0];
+    for (const unsigned int k : nodes)
+      {
+        // The lumped volume, for Mean: the node's lumped mass over its block's density.
+        const auto  &node  = data.continuum->nodes[k];
+        const double value = quantity->node_value(data, k);
+        q.push_back(reference ? std::abs(value - reference->value(node.x, time)) : value);
+        V.push_back(data.continuum->mass.local_element(node.local) / (*data.node_density)[k]);
+      }
+    return reduction->reduce(q, V, comm);
   }
 } // namespace perideal

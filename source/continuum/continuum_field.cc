@@ -45,7 +45,7 @@ namespace perideal
 
   void
   ContinuumField::setup(const DoFHandler<dim>                                                &dof_handler,
-                        const std::function<const LinearElasticity *(const CellIterator &)> &model_of,
+                        const std::function<const ContinuumModel *(const CellIterator &)>   &model_of,
                         const std::function<double(const CellIterator &)>                    &weight_of,
                         const MPI_Comm                                                        comm_)
   {
@@ -85,7 +85,7 @@ namespace perideal
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const LinearElasticity *model = model_of(cell);
+          const ContinuumModel *model = model_of(cell);
           if (model == nullptr)
             continue;
           ++n_fe_cells;
@@ -96,7 +96,8 @@ namespace perideal
           cell->get_dof_indices(dofs);
           model->cell_matrix(fe_values, cell_matrix);
           model->cell_lumped_mass(fe_values, cell_mass);
-          std::vector<double> shape{double(fe.degree), model->K, model->G, model->rho};
+          std::vector<double> shape = model->constants();
+          shape.insert(shape.begin(), double(fe.degree));
           for (const unsigned int v : cell->vertex_indices())
             for (unsigned int d = 0; d < dim; ++d)
               shape.push_back(cell->vertex(v)[d] - cell->vertex(0)[d]);

@@ -20,9 +20,9 @@ namespace perideal
 
     continuum.setup(
       discretization.dof_handler,
-      [&](const CellIterator &cell) -> const LinearElasticity * {
+      [&](const CellIterator &cell) -> const ContinuumModel * {
         // FE cells: the continuum block that claims them.
-        return cell->active_fe_index() == 0 ? nullptr : blocks[discretization.block_of_cell(cell)].elasticity.get();
+        return cell->active_fe_index() == 0 ? nullptr : blocks[discretization.block_of_cell(cell)].continuum_model.get();
       },
       [&](const CellIterator &cell) { return cell_fe_weight[cell->active_cell_index()]; },
       comm);
@@ -34,7 +34,7 @@ namespace perideal
     f_virtual.assign(dim * virtual_points.size(), 0.0);
     node_density.resize(continuum.nodes.size());
     for (unsigned int k = 0; k < continuum.nodes.size(); ++k)
-      node_density[k] = blocks[discretization.block_of_cell(continuum.nodes[k].cell)].elasticity->rho;
+      node_density[k] = blocks[discretization.block_of_cell(continuum.nodes[k].cell)].continuum_model->density();
   }
 
   void

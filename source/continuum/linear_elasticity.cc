@@ -1,4 +1,6 @@
+#include <perideal/base/format.h>
 #include <perideal/continuum/linear_elasticity.h>
+#include <perideal/material/material.h>
 
 #include <deal.II/fe/fe_values_extractors.h>
 #include <deal.II/lac/lapack_full_matrix.h>
@@ -19,6 +21,18 @@ namespace perideal
   {
     AssertThrow(K > 0 && G > 0 && rho > 0,
                 ExcMessage("linear elasticity needs a positive bulk modulus, shear modulus and density"));
+  }
+
+  void
+  LinearElasticity::initialize(const Material &material)
+  {
+    *this = LinearElasticity(material.bulk_modulus(), material.shear_modulus(), material.density());
+  }
+
+  std::string
+  LinearElasticity::describe() const
+  {
+    return "E " + sci(young_modulus()) + ", nu " + sci(poisson_ratio(), 4);
   }
 
   void
@@ -109,4 +123,7 @@ namespace perideal
       largest = std::max(largest, l);
     return largest > 0 ? 2 / std::sqrt(largest) : std::numeric_limits<double>::max();
   }
+  PERIDEAL_REGISTER(ContinuumModel, LinearElasticity, "Linear elasticity",
+                    "FE_Q(FE degree) linear elasticity with the material's bulk modulus, shear modulus and "
+                    "density.")
 } // namespace perideal

@@ -143,8 +143,9 @@ namespace perideal
       report_p4est_out_of_memory();
       check_scene_size(available);
       scene.create_triangulation(triangulation);
-      if (scene.type == "Gmsh")
-        check_mesh_size(available, "the mesh", "Discretization/Gmsh/Mesh file");
+      SceneGeometry::Lattice lattice;
+      if (!scene.geometry->lattice(lattice)) // known once made: a mesh file
+        check_mesh_size(available, "the mesh", scene.geometry->cells_key());
       for (const auto &name : scene.refinement_regions)
         AssertThrow(regions.count(name) || name == "All",
                     ExcMessage("Discretization/Refinement regions: '" + name +

@@ -30,42 +30,12 @@ namespace perideal
   void
   Discretization::check_scene_size(const AvailableMemory &available) const
   {
-    if (scene.type != "Box" && scene.type != "Cylinder shell")
+    SceneGeometry::Lattice lattice;
+    if (!scene.geometry->lattice(lattice))
       return;
-    SizeEstimate e;
-    std::array<double, 3> n, h;
-    std::string           cells_key;
-    if (scene.type == "Box")
-      {
-        // As create_box: a coarse mesh of Subdivisions / 2^k cells refined k times.
-        unsigned int k = 6;
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            unsigned int z = 0, s = scene.subdivisions[d];
-            while (s % 2 == 0 && s > 1)
-              s /= 2, ++z;
-            k = std::min(k, z);
-          }
-        e.coarse_cells = 1;
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            n[d] = scene.subdivisions[d];
-            h[d] = (scene.upper[d] - scene.lower[d]) / n[d];
-            e.coarse_cells *= double(scene.subdivisions[d] >> k);
-          }
-        cells_key = "Discretization/Box/Subdivisions";
-      }
-    else
-      {
-        // The tensor product cylinder is its own coarse mesh. Unrolled into a
-        // box of arcs at the outer radius, no two points are closer than on
-        // the cylinder: its pairs are a lower bound.
-        n = {{double(scene.radial_cells), double(scene.circumferential_cells), double(scene.axial_cells)}};
-        h = {{(scene.outer_radius - scene.inner_radius) / n[0], 2 * M_PI * scene.outer_radius / n[1],
-              scene.length / n[2]}};
-        e.coarse_cells = n[0] * n[1] * n[2];
-        cells_key      = "Discretization/Cylinder shell/Radial cells, Circumferential cells and Axial cells";
-      }
+    SizeEstimate                e;
+    const std::array<double, 3> &n = lattice.cells, &h = lattice.spacing;
+    e.coarse_cells                 = lattice.coarse_cells;
     e.cells = n[0] * n[1] * n[2];
 
     // Every cell has material id 0: all are points if a peridynamic block
@@ -89,7 +59,7 @@ namespace perideal
         e.points = e.cells;
         e.bonds  = lattice_pairs(n, h, delta);
       }
-    check_size(e, available, Utilities::MPI::n_mpi_processes(comm), "the scene", cells_key, horizon_key(),
+    check_size(e, available, Utilities::MPI::n_mpi_processes(comm), "the scene", scene.geometry->cells_key(), horizon_key(),
                dry_run_mode, pcout);
   }
 

@@ -111,59 +111,9 @@ namespace perideal
                                                     {"external_work", record.external_work},
                                                     {"broken_bonds", broken_bonds},
                                                     {"max_damage", max_damage}};
+    const ComputeData data{cloud, state, model, continuum, coupling ? &coupling->node_density : nullptr};
     for (const auto &compute : computes)
-      {
-        const std::function<double(unsigned int)> value =
-          compute.variable == "Damage" ? std::function<double(unsigned int)>([this](unsigned int i) { return model.point_damage(i); }) :
-          compute.variable == "Bond stretch" ? std::function<double(unsigned int)>([this](unsigned int i) { return model.point_stretch(i); }) :
-          compute.variable[0] == 'D' ?
-            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
-              return state.displacement.local_element(dim * i + compute.component);
-            }) :
-          compute.variable == "Kinetic energy" ?
-            std::function<double(unsigned int)>([this](unsigned int i) {
-              const double *v = state.velocity.begin() + dim * i;
-              return 0.5 * state.mass_density[i] * cloud.volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-            }) :
-          compute.variable[0] == 'P' ?
-            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
-              return cloud.X[dim * i + compute.component];
-            }) :
-            std::function<double(unsigned int)>([this, &compute](unsigned int i) {
-              return cloud.volume[i] * state.force.local_element(dim * i + compute.component);
-            });
-        std::function<double(unsigned int)> node_value, node_volume;
-        if (has_continuum)
-          {
-            const auto local = [this](unsigned int k) { return continuum->nodes[k].local; };
-            node_volume = [this, local](unsigned int k) { return continuum->mass.local_element(local(k)) / coupling->node_density[k]; };
-            const char v = compute.variable[0];
-            node_value =
-              compute.variable == "Kinetic energy" ?
-                std::function<double(unsigned int)>([this, local](unsigned int k) {
-                  const double vk = continuum->V.local_element(local(k));
-                  return 0.5 * continuum->mass.local_element(local(k)) * vk * vk;
-                }) :
-              v == 'D' ? std::function<double(unsigned int)>([this, local](unsigned int k) { return continuum->U.local_element(local(k)); }) :
-              v == 'P' ? std::function<double(unsigned int)>([this](unsigned int k) { return continuum->nodes[k].x[continuum->nodes[k].component]; }) :
-              v == 'F' ? std::function<double(unsigned int)>([this, local](unsigned int k) { return continuum->F.local_element(local(k)); }) :
-                         std::function<double(unsigned int)>();
-          }
-        if (compute.reference)
-          {
-            const Expression &ref = *compute.reference;
-            row.emplace_back(compute.name,
-                             compute.evaluate([&](unsigned int i) { return std::abs(value(i) - ref.value(cloud.position(i), time)); },
-                                              cloud.volume, comm,
-                                              node_value ? std::function<double(unsigned int)>([&](unsigned int k) {
-                                                return std::abs(node_value(k) - ref.value(continuum->nodes[k].x, time));
-                                              }) :
-                                                           std::function<double(unsigned int)>(),
-                                              node_volume));
-          }
-        else
-          row.emplace_back(compute.name, compute.evaluate(value, cloud.volume, comm, node_value, node_volume));
-      }
+      row.emplace_back(compute.name, compute.evaluate(data, time, comm));
     {
       // A Reference that is NaN somewhere would write nan in every row.
       std::vector<const Expression *> references;
@@ -335,8 +285,7 @@ namespace perideal
     for (const auto &b : deck.blocks)
       if (b.continuum)
         pcout << "  block '" << b.name << "': continuum FE_Q(" << b.fe_degree << "), material '" << b.material_name
-              << "' (E " << sci(b.elasticity->young_modulus()) << ", nu " << sci(b.elasticity->poisson_ratio(), 4)
-              << "), " << Utilities::MPI::sum(b.points.size(), comm) << " virtual points\n";
+              << "' (" << b.continuum_model->describe() << "), " << Utilities::MPI::sum(b.points.size(), comm) << " virtual points\n";
       else
         pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
               << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)

@@ -189,11 +189,15 @@ namespace perideal
             << "Below, every model appears once under an example name.\n\n"
             << "Models: materials " << Registry<Material>::instance().names(", ")
             << "; damage models " << Registry<DamageModel>::instance().names(", ")
-            << "; time integrators (Solver/Type) " << Registry<TimeIntegrator>::instance().names(", ") << ".\n\n";
+            << "; time integrators (Solver/Type) " << Registry<TimeIntegrator>::instance().names(", ")
+            << "; continuum models (of every block of Type Continuum; no key chooses one yet) "
+            << Registry<ContinuumModel>::instance().names(", ") << ".\n\n";
         for (const auto &m : Registry<Material>::instance().all())
           out << "- material `" << m.first << "`: " << m.second.documentation << "\n";
         for (const auto &m : Registry<DamageModel>::instance().all())
           out << "- damage model `" << m.first << "`: " << m.second.documentation << "\n";
+        for (const auto &m : Registry<ContinuumModel>::instance().all())
+          out << "- continuum model `" << m.first << "`: " << m.second.documentation << "\n";
         out << "\n```\n";
       }
     prm.print_parameters(out, ParameterHandler::PRM);
@@ -355,9 +359,9 @@ namespace perideal
       if (block.continuum)
         {
           deck.has_continuum = true;
-          block.elasticity = std::make_unique<LinearElasticity>(block.material->bulk_modulus(),
-                                                                block.material->shear_modulus(),
-                                                                block.material->density());
+          // The only continuum model so far; a key would choose it by name here.
+          block.continuum_model = Registry<ContinuumModel>::instance().create("Linear elasticity", "Blocks/" + block.name + "/Type");
+          block.continuum_model->initialize(*block.material);
         }
     // Materials declared but not used are still parsed, so their errors show.
     prm.enter_subsection("Materials");

@@ -77,13 +77,31 @@ namespace pdtest
       , fe(FE_DGQ<3>(0), 3)
       , dof_handler(triangulation)
     {
+      // The box scene as a parameter file would give it (17 digits: exact).
       perideal::Scene scene;
-      scene.type         = "Box";
-      scene.lower        = lower;
-      scene.upper        = upper;
-      scene.subdivisions = subdivisions;
-      scene.horizon      = horizon;
-      scene.periodic     = periodic;
+      {
+        ParameterHandler prm;
+        perideal::Scene::declare_parameters(prm);
+        const auto number = [](const double x) {
+          std::ostringstream s;
+          s << std::setprecision(17) << x;
+          return s.str();
+        };
+        const auto triple = [&](const auto &v) { return number(v[0]) + "," + number(v[1]) + "," + number(v[2]); };
+        std::string directions;
+        for (unsigned int d = 0; d < 3; ++d)
+          if (periodic[d])
+            directions += (directions.empty() ? "" : ",") + std::string(1, char('x' + d));
+        prm.set("Type", "Box");
+        prm.set("Horizon", number(horizon));
+        prm.set("Periodic directions", directions);
+        prm.enter_subsection("Box");
+        prm.set("Lower corner", triple(lower));
+        prm.set("Upper corner", triple(upper));
+        prm.set("Subdivisions", triple(subdivisions));
+        prm.leave_subsection();
+        scene.parse_parameters(prm);
+      }
       scene.create_triangulation(triangulation);
       dof_handler.distribute_dofs(fe);
       cloud.periodicity = scene.periodicity(triangulation);

@@ -13,6 +13,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <functional>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <string>
@@ -72,6 +73,24 @@ namespace perideal
       std::string s;
       for (const auto &e : entries)
         s += (s.empty() ? "" : separator) + e.first;
+      return s;
+    }
+
+    /// "A: doc of A. B, C: doc of B and C." for the documentation of a key
+    /// that selects a model; consecutive names of one documentation share it.
+    std::string
+    documentation() const
+    {
+      check();
+      std::string s;
+      for (auto it = entries.begin(); it != entries.end(); ++it)
+        {
+          s += (s.empty() ? "" : (std::prev(it)->second.documentation == it->second.documentation ? ", " : " ")) +
+               it->first;
+          const auto next = std::next(it);
+          if (next == entries.end() || next->second.documentation != it->second.documentation)
+            s += ": " + it->second.documentation;
+        }
       return s;
     }
 

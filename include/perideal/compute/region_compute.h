@@ -7,14 +7,16 @@
 // analytic solutions (patch tests, verification).
 // Reaction forces, virtual strain gauges (the difference of two region means
 // of the displacement over the difference of their mean positions) and probes
-// are built from it.
+// are built from it. The variable is a PointQuantity, the operation a
+// Reduction, each chosen by name from its registry.
 
 #include <perideal/base/expression.h>
 #include <perideal/base/input.h>
+#include <perideal/compute/point_quantity.h>
+#include <perideal/compute/reduction.h>
 
 #include <deal.II/base/mpi.h>
 
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,36 +26,32 @@ namespace perideal
   class RegionCompute
   {
   public:
+    /// Variable and Operation name a PointQuantity and a Reduction of their registries.
     static void
     declare_parameters(ParameterHandler &prm);
     void
     parse_parameters(ParameterHandler &prm, const std::string &path);
 
-    /// The value over points (owned, of this compute's region) of @p value(i,
-    /// component); @p volume per point; and, in runs with continuum blocks,
-    /// over the FE nodes of the region, @p node_value(k) with @p node_volume(k)
-    /// (the lumped volume, for Mean). Collective.
+    /// The operation over the owned points (and, in runs with continuum
+    /// blocks, FE nodes) of this compute's region of the variable at @p time
+    /// (|q - reference| with a Reference). Collective.
     double
-    evaluate(const std::function<double(unsigned int)> &value,
-             const std::vector<double>                 &volume,
-             const MPI_Comm                             comm,
-             const std::function<double(unsigned int)> &node_value  = {},
-             const std::function<double(unsigned int)> &node_volume = {}) const;
+    evaluate(const ComputeData &data, const double time, const MPI_Comm comm) const;
 
-    /// Whether an FE DoF of component @p c enters the compute (its variable
-    /// is defined at FE nodes: displacement, force, position per component,
-    /// kinetic energy over all).
+    /// Whether an FE DoF of component @p c enters the compute.
     bool
     uses_node(const unsigned int c) const
     {
-      return variable == "Kinetic energy" ||
-             (variable.size() > 2 && variable[variable.size() - 2] == ' ' && c == component);
+      return quantity->at_node(c);
     }
 
     std::string               name, region, variable, operation;
     std::shared_ptr<const Expression> reference; // none: the variable itself
-    unsigned int              component = 0; // for vector variables
     std::vector<unsigned int> points;        // owned points in the region
     std::vector<unsigned int> nodes;         // owned FE DoFs in the region it uses (continuum blocks)
+
+  private:
+    std::unique_ptr<PointQuantity> quantity;
+    std::unique_ptr<Reduction>     reduction;
   };
 } // namespace perideal

@@ -55,7 +55,7 @@ namespace perideal
     /// energy weight in [0, 1]. Assembles mass and stiffness. Collective.
     void
     setup(const dealii::DoFHandler<dim>                                         &dof_handler,
-          const std::function<const LinearElasticity *(const CellIterator &)> &model_of,
+          const std::function<const ContinuumModel *(const CellIterator &)> &model_of,
           const std::function<double(const CellIterator &)>                    &weight_of,
           const MPI_Comm                                                        comm);
 

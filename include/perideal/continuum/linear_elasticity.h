@@ -8,33 +8,53 @@
 // (the largest frequency of the assembly is at most the largest of its
 // elements), dt <= 2 / omega_max.
 // K, G and rho are those of the PD material of the same name, so that a block
-// can switch between PD and FE without changing the material.
+// can switch between PD and FE without changing the material. Registered as
+// the ContinuumModel "Linear elasticity".
 
-#include <perideal/base/input.h>
+#include <perideal/continuum/continuum_model.h>
 
 #include <deal.II/base/tensor.h>
-#include <deal.II/fe/fe_values.h>
-#include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/vector.h>
 
 namespace perideal
 {
-  class LinearElasticity
+  class LinearElasticity : public ContinuumModel
   {
   public:
+    /// Constants from initialize().
+    LinearElasticity() = default;
     /// Bulk modulus K, shear modulus G, density rho; all must be positive.
     LinearElasticity(const double K, const double G, const double rho);
+
+    /// K, G and rho of @p material.
+    void
+    initialize(const Material &material) override;
 
     /// The cell stiffness matrix. @p fe_values is reinit'ed on the cell with
     /// update_gradients and update_JxW_values, its element an FESystem of
     /// dim scalar components.
     void
-    cell_matrix(const dealii::FEValues<dim> &fe_values, dealii::FullMatrix<double> &matrix) const;
+    cell_matrix(const dealii::FEValues<dim> &fe_values, dealii::FullMatrix<double> &matrix) const override;
 
     /// The cell's row sums of the consistent mass matrix, rho int phi_i (the
     /// lumped mass; positive for Lagrange Q1 and Q2). Needs update_values.
     void
-    cell_lumped_mass(const dealii::FEValues<dim> &fe_values, dealii::Vector<double> &mass) const;
+    cell_lumped_mass(const dealii::FEValues<dim> &fe_values, dealii::Vector<double> &mass) const override;
+
+    double
+    density() const override
+    {
+      return rho;
+    }
+
+    std::vector<double>
+    constants() const override
+    {
+      return {K, G, rho};
+    }
+
+    /// "E ..., nu ...".
+    std::string
+    describe() const override;
 
     /// int phi_i . b over the cell for a constant body force density @p b
     /// (force per volume). Needs update_values.
@@ -73,7 +93,7 @@ namespace perideal
       return std::sqrt((K + 4 * G / 3) / rho);
     }
 
-    const double K, G, rho;
-    const double lambda, mu;
+    double K = 0, G = 0, rho = 0;
+    double lambda = 0, mu = 0;
   };
 } // namespace perideal

@@ -1,10 +1,12 @@
 #pragma once
 // A named region (Peridigm's node set): the points of a run that boundary
-// conditions and blocks act on, chosen once at set-up by a bounding box, a
-// muparser expression in x, y, z (non-zero = inside), or a Gmsh physical group.
+// conditions and blocks act on, chosen once at set-up by a selector of
+// Registry<RegionSelector> named by its Type (All, Box, Expression, Physical
+// group: source/geometry/region_*.cc, one file each).
 
 #include <perideal/base/expression.h>
 #include <perideal/base/input.h>
+#include <perideal/base/registry.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -14,6 +16,32 @@
 
 namespace perideal
 {
+  /// How a region chooses its points: a plugin registered with
+  /// PERIDEAL_REGISTER(RegionSelector, Class, "Type", "doc"), whose static
+  /// declare_parameters declares its keys in the region's subsection (every
+  /// type's keys are declared there; key names are shared by all types).
+  class RegionSelector
+  {
+  public:
+    virtual ~RegionSelector() = default;
+
+    /// Reads the keys of the region's subsection; @p path names it in errors.
+    virtual void
+    parse_parameters(ParameterHandler &prm, const std::string &path) = 0;
+
+    /// Whether the point @p x (a cell centroid or node) of @p cell is inside.
+    virtual bool
+    contains(const dealii::Point<dim> &x, const dealii::DoFHandler<dim>::active_cell_iterator &cell) const = 0;
+
+    /// The user's expression, if the selector has one, for the collective
+    /// check of its values (check_finite()).
+    virtual const Expression *
+    user_expression() const
+    {
+      return nullptr;
+    }
+  };
+
   class Region
   {
   public:
@@ -25,22 +53,21 @@ namespace perideal
 
     bool
     contains(const dealii::Point<dim>                               &x,
-             const dealii::DoFHandler<dim>::active_cell_iterator &cell) const;
+             const dealii::DoFHandler<dim>::active_cell_iterator &cell) const
+    {
+      return selector->contains(x, cell);
+    }
 
-    /// The expression of an Expression region (nullptr otherwise), for the
-    /// collective check of its values (check_finite()).
+    /// The expression of an Expression region (nullptr otherwise).
     const Expression *
     user_expression() const
     {
-      return expression.get();
+      return selector->user_expression();
     }
 
     std::string name;
 
   private:
-    std::string                 type;
-    dealii::Point<dim>          lower, upper;
-    std::unique_ptr<Expression> expression;
-    unsigned int                group_id = 0, group_dimension = 3;
+    std::unique_ptr<RegionSelector> selector;
   };
 } // namespace perideal

@@ -1,57 +1,95 @@
 #pragma once
-// The geometry of a run: a built-in scene (box, cylinder shell) or a Gmsh
-// hexahedral mesh, created on a parallel::distributed::Triangulation. The
-// material id of a cell is its block number in the mesh.
+// The geometry of a run: a scene geometry of Registry<SceneGeometry> chosen
+// by Discretization/Type (Box, Cylinder shell, Gmsh: source/geometry/, one
+// file each), created on a parallel::distributed::Triangulation. The
+// material id of a cell is its block number in the mesh. Scene holds the
+// keys every geometry shares (horizon, periodicity, refinement).
 
 #include <perideal/base/input.h>
+#include <perideal/base/registry.h>
 #include <perideal/geometry/periodicity.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/distributed/tria.h>
 
 #include <array>
+#include <cmath>
+#include <memory>
 #include <string>
 
 namespace perideal
 {
+  /// One way to make the coarse mesh: a plugin registered with
+  /// PERIDEAL_REGISTER(SceneGeometry, Class, "Name", "doc"), whose static
+  /// declare_parameters declares its keys in subsection Discretization/Name.
+  class SceneGeometry
+  {
+  public:
+    virtual ~SceneGeometry() = default;
+
+    /// Reads and checks the keys of its subsection (it enters it) of
+    /// Discretization; @p horizon for the range checks.
+    virtual void
+    parse_parameters(ParameterHandler &prm, const double horizon) = 0;
+
+    virtual void
+    create_triangulation(dealii::parallel::distributed::Triangulation<dim> &tria) const = 0;
+
+    /// The scene as a lattice before it is made (the size check): cells and
+    /// spacing per direction, coarse cells.
+    struct Lattice
+    {
+      std::array<double, 3> cells{}, spacing{};
+      double                coarse_cells = 0;
+    };
+    /// False if the size is known only from the mesh once made (a file).
+    virtual bool
+    lattice(Lattice &) const
+    {
+      return false;
+    }
+
+    /// The keys that set the number of cells, named by the size check.
+    virtual std::string
+    cells_key() const = 0;
+
+  protected:
+    /// A spacing well above the round-off of @p coordinate (1e-10 of it:
+    /// points stay distinct far beyond the 1e-9 horizon tolerances), and
+    /// coordinate plus @p horizon without overflow.
+    static bool
+    resolvable(const double coordinate, const double spacing, const double horizon)
+    {
+      return std::isfinite(std::abs(coordinate) + 2 * horizon) && spacing > 1e-10 * std::abs(coordinate);
+    }
+  };
+
   class Scene
   {
   public:
-    /// Declared inside subsection "Discretization".
+    /// Declared inside subsection "Discretization": the shared keys and every
+    /// registered geometry's subsection.
     static void
     declare_parameters(ParameterHandler &prm);
     void
     parse_parameters(ParameterHandler &prm);
 
     void
-    create_triangulation(dealii::parallel::distributed::Triangulation<dim> &tria) const;
+    create_triangulation(dealii::parallel::distributed::Triangulation<dim> &tria) const
+    {
+      geometry->create_triangulation(tria);
+    }
 
     /// The period box of the periodic directions: the coarse mesh's bounding box.
     Periodicity
     periodicity(const dealii::parallel::distributed::Triangulation<dim> &tria) const;
 
-    /// A typical cell size, for messages and defaults.
-    double
-    typical_spacing() const;
-
     std::string type;
+    std::unique_ptr<SceneGeometry> geometry; // of type
     double      horizon         = 0;
     bool        partial_volumes = false; // neighbors count with their cell's share inside the horizon
     std::array<bool, 3> periodic{{false, false, false}}; // Periodic directions
     std::vector<std::string>  refinement_regions; // applied by the Simulation, which knows the regions
     std::vector<unsigned int> refinement_levels;
-
-    // Box
-    dealii::Point<dim>          lower, upper;
-    std::array<unsigned int, 3> subdivisions{};
-
-    // Cylinder shell (Peridigm's TensorProductCylinderMeshGenerator)
-    double       inner_radius = 0, outer_radius = 0, length = 0;
-    double       center_x = 0, center_y = 0, z_origin = 0;
-    unsigned int radial_cells = 0, circumferential_cells = 0, axial_cells = 0;
-
-    // Gmsh
-    std::string mesh_file;
-    double      scale = 1;
   };
 } // namespace perideal

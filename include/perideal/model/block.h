@@ -2,7 +2,7 @@
 // A block: a set of cells with one material (and optional damage model) and
 // one horizon, or a continuum (FE) block. Blocks/NAME of the parameter file.
 
-#include <perideal/continuum/linear_elasticity.h>
+#include <perideal/continuum/continuum_model.h>
 #include <perideal/damage/damage_model.h>
 #include <perideal/material/material.h>
 
@@ -21,7 +21,7 @@ namespace perideal
     double                    horizon   = 0;
     bool                      continuum = false; // FE cells; its points are virtual points
     unsigned int              fe_degree = 1;
-    std::unique_ptr<LinearElasticity> elasticity; // continuum blocks only
+    std::unique_ptr<ContinuumModel>   continuum_model; // continuum blocks only
     std::unique_ptr<Material>         material;
     std::unique_ptr<DamageModel>      damage;
     std::vector<unsigned int>         points; // owned points of this block (virtual points for continuum blocks)

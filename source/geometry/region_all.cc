@@ -1,0 +1,27 @@
+// Region Type = All: every point.
+#include <perideal/geometry/region.h>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  class AllRegion : public RegionSelector
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &)
+    {}
+
+    void
+    parse_parameters(ParameterHandler &, const std::string &) override
+    {}
+
+    bool
+    contains(const Point<dim> &, const DoFHandler<dim>::active_cell_iterator &) const override
+    {
+      return true;
+    }
+  };
+
+  PERIDEAL_REGISTER(RegionSelector, AllRegion, "All", "every point.")
+} // namespace perideal
