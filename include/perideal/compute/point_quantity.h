@@ -8,7 +8,7 @@
 #include <perideal/base/input.h>
 #include <perideal/base/registry.h>
 #include <perideal/discretization/point_cloud.h>
-#include <perideal/solver/state.h>
+#include <perideal/model/state.h>
 
 #include <vector>
 
