@@ -191,17 +191,6 @@ namespace
     return variants;
   }
 
-  // A value in [-1, 1) from a point's rank-independent hash and a salt.
-  double
-  noise(const std::uint64_t hash, const unsigned int salt)
-  {
-    std::uint64_t x = hash ^ (0x9e3779b97f4a7c15ULL * (salt + 1));
-    x ^= x >> 33;
-    x *= 0xff51afd7ed558ccdULL;
-    x ^= x >> 33;
-    return double(x >> 11) / double(1ULL << 52) - 1;
-  }
-
   /// A number for the comparison of 1 and 2 ranks: 6 significant digits.
   void
   info(Report &report, const std::string &name, const double v)

@@ -29,6 +29,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -43,6 +44,18 @@
 namespace pdtest
 {
   using namespace dealii;
+
+  /// A value in [-1, 1) from a point's rank-independent hash and a salt:
+  /// perturbed states that are the same on any number of ranks.
+  inline double
+  noise(const std::uint64_t hash, const unsigned int salt)
+  {
+    std::uint64_t x = hash ^ (0x9e3779b97f4a7c15ULL * (salt + 1));
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    return double(x >> 11) / double(1ULL << 52) - 1;
+  }
   using perideal::dim;
 
   struct MaterialSpec

@@ -19,23 +19,12 @@ using namespace dealii;
 
 namespace
 {
-  // A value in [-1, 1) from a point's rank-independent hash and a salt.
-  double
-  noise(const std::uint64_t hash, const unsigned int salt)
-  {
-    std::uint64_t x = hash ^ (0x9e3779b97f4a7c15ULL * (salt + 1));
-    x ^= x >> 33;
-    x *= 0xff51afd7ed558ccdULL;
-    x ^= x >> 33;
-    return double(x >> 11) / double(1ULL << 52) - 1;
-  }
-
   void
   fill_random(const pdtest::Harness &h, TrilinosWrappers::MPI::Vector &x, const unsigned int salt)
   {
     for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
       for (unsigned int c = 0; c < 3; ++c)
-        x[3 * h.cloud.gid[i] + c] = noise(h.cloud.hash(i), 3 * salt + c);
+        x[3 * h.cloud.gid[i] + c] = pdtest::noise(h.cloud.hash(i), 3 * salt + c);
     x.compress(VectorOperation::insert);
   }
 
@@ -47,7 +36,7 @@ namespace
     std::vector<double> u(3 * h.cloud.n_owned());
     for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
       for (unsigned int c = 0; c < 3; ++c)
-        u[3 * i + c] = 0.05 * spacing * noise(h.cloud.hash(i), c);
+        u[3 * i + c] = 0.05 * spacing * pdtest::noise(h.cloud.hash(i), c);
     h.set_displacement(u);
     h.evaluate(false);
 
