@@ -7,6 +7,8 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <cctype>
+
 namespace perideal
 {
   using namespace dealii;
@@ -15,6 +17,34 @@ namespace perideal
   Deck::~Deck() = default;
 
   // ---------------------------------------------------------------- parameters
+
+  namespace
+  {
+    /// A section of named models of one registry (Materials, Damage models):
+    /// Names, and per name its Model key (@p declare_model_entry) and the
+    /// chosen model's own keys.
+    template <class Interface>
+    void
+    declare_model_section(ParameterHandler                         &prm,
+                          const std::string                        &section,
+                          const std::map<std::string, std::string> &models,
+                          void (*declare_model_entry)(ParameterHandler &))
+    {
+      std::string noun = section;
+      noun[0]          = std::tolower(noun[0]);
+      prm.enter_subsection(section);
+      declare_names_entry(prm, noun);
+      for (const auto &[name, model] : models)
+        {
+          prm.enter_subsection(name);
+          declare_model_entry(prm);
+          if (!model.empty())
+            Registry<Interface>::instance().get(model, section + "/" + name + "/Model").declare(prm);
+          prm.leave_subsection();
+        }
+      prm.leave_subsection();
+    }
+  } // namespace
 
   void
   declare_parameters(ParameterHandler &prm, const DeckNames &names)
@@ -27,29 +57,8 @@ namespace perideal
                           names.bond_filters, [&](const std::string &) { BondFilter::declare_parameters(prm); });
     prm.leave_subsection();
 
-    prm.enter_subsection("Materials");
-    declare_names_entry(prm, "materials");
-    for (const auto &[name, model] : names.materials)
-      {
-        prm.enter_subsection(name);
-        declare_material_model_entry(prm);
-        if (!model.empty())
-          Registry<Material>::instance().get(model, "Materials/" + name + "/Model").declare(prm);
-        prm.leave_subsection();
-      }
-    prm.leave_subsection();
-
-    prm.enter_subsection("Damage models");
-    declare_names_entry(prm, "damage models");
-    for (const auto &[name, model] : names.damage_models)
-      {
-        prm.enter_subsection(name);
-        declare_damage_model_entry(prm);
-        if (!model.empty())
-          Registry<DamageModel>::instance().get(model, "Damage models/" + name + "/Model").declare(prm);
-        prm.leave_subsection();
-      }
-    prm.leave_subsection();
+    declare_model_section<Material>(prm, "Materials", names.materials, declare_material_model_entry);
+    declare_model_section<DamageModel>(prm, "Damage models", names.damage_models, declare_damage_model_entry);
 
     prm.enter_subsection("Blocks");
     declare_names_entry(prm, "blocks; a cell belongs to the first block that claims it");
@@ -161,22 +170,16 @@ namespace perideal
     set_names({"Damage models"}, join(names.damage_models));
     set_names({"Blocks"}, "My block");
     set_names({"Boundary conditions"}, "My condition");
-    for (const auto &[name, model] : names.materials)
-      {
-        prm.enter_subsection("Materials");
-        prm.enter_subsection(name);
-        prm.set("Model", model);
-        prm.leave_subsection();
-        prm.leave_subsection();
-      }
-    for (const auto &[name, model] : names.damage_models)
-      {
-        prm.enter_subsection("Damage models");
-        prm.enter_subsection(name);
-        prm.set("Model", model);
-        prm.leave_subsection();
-        prm.leave_subsection();
-      }
+    for (const auto &[section, models] : {std::make_pair("Materials", &names.materials),
+                                           std::make_pair("Damage models", &names.damage_models)})
+      for (const auto &[name, model] : *models)
+        {
+          prm.enter_subsection(section);
+          prm.enter_subsection(name);
+          prm.set("Model", model);
+          prm.leave_subsection();
+          prm.leave_subsection();
+        }
 
     if (markdown)
       {
