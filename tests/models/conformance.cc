@@ -338,11 +338,7 @@ namespace
   {
     const double spacing = 0.25;
     Harness      h(comm, Point<3>(0, 0, 0), Point<3>(1.5, 1, 1), {{6, 4, 4}}, 2.015 * spacing, spec);
-    std::vector<double> u(3 * h.cloud.n_owned());
-    for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
-      for (unsigned int c = 0; c < 3; ++c)
-        u[3 * i + c] = 0.05 * spacing * noise(h.cloud.hash(i), c);
-    h.set_displacement(u);
+    h.set_random_displacement(0.05 * spacing);
     h.evaluate(false);
 
     const std::vector<std::uint8_t> free(3 * h.cloud.n_local(), 0);

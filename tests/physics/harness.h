@@ -189,6 +189,18 @@ namespace pdtest
       u.update_ghost_values();
     }
 
+    /// u = @p amplitude noise(hash, component): a perturbed state that is the
+    /// same on any number of ranks.
+    void
+    set_random_displacement(const double amplitude)
+    {
+      std::vector<double> owned(3 * cloud.n_owned());
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        for (unsigned int c = 0; c < 3; ++c)
+          owned[3 * i + c] = amplitude * noise(cloud.hash(i), c);
+      set_displacement(owned);
+    }
+
     /// Sets u on the owned points from a flat owned array, then the ghosts.
     void
     set_displacement(const std::vector<double> &owned)

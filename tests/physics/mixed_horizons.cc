@@ -121,11 +121,7 @@ namespace
     const double h = 0.25, delta = 2.015 * h;
     Harness      H(comm, Point<3>(0, 0, 0), Point<3>(2, 1, 1), {{8, 4, 4}}, delta, spec, {}, false,
               {{false, false, false}}, SecondBlock{1.0, delta / 2});
-    std::vector<double> u(3 * H.cloud.n_owned());
-    for (unsigned int i = 0; i < H.cloud.n_owned(); ++i)
-      for (unsigned int c = 0; c < 3; ++c)
-        u[3 * i + c] = 0.05 * h * noise(H.cloud.hash(i), c);
-    H.set_displacement(u);
+    H.set_random_displacement(0.05 * h);
     H.evaluate(false);
 
     const std::vector<std::uint8_t> free(3 * H.cloud.n_local(), 0);
