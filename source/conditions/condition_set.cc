@@ -28,21 +28,19 @@ namespace perideal
   void
   ConditionSet::setup(Coupling *coupling)
   {
-    continuum     = coupling ? &coupling->continuum : nullptr;
-    node_density  = coupling ? &coupling->node_density : nullptr;
-    has_continuum = coupling != nullptr;
+    continuum    = coupling ? &coupling->continuum : nullptr;
+    node_density = coupling ? &coupling->node_density : nullptr;
     // Conditions: their points, the constraints, the body force.
     for (auto &bc : conditions)
       {
         bc.faces.clear();
         if (bc.type == BoundaryCondition::Type::traction)
           {
-            AssertThrow(has_continuum,
+            AssertThrow(continuum != nullptr,
                         ExcMessage("Boundary conditions/" + bc.name + "/Type: a Traction acts on the boundary faces "
                                    "of continuum blocks, and this scene has none; load peridynamic blocks with "
                                    "a Body force"));
-            bc.points.clear();
-            bc.nodes.clear();
+            bc.dofs.clear();
             for (const auto &cell : discretization.dof_handler.active_cell_iterators())
               if (cell->is_locally_owned() && cell->active_fe_index() > 0)
                 for (const unsigned int f : cell->face_indices())
@@ -54,19 +52,15 @@ namespace perideal
               record.warnings.push_back("traction '" + bc.name + "' acts on no boundary face of a continuum block");
             continue;
           }
-        bc.points.clear();
+        bc.dofs.clear();
         for (unsigned int i = 0; i < cloud.n_owned(); ++i)
           if (!discretization.is_virtual(i) && discretization.in_region(bc.region, cloud.position(i), cloud.cell[i]))
-            bc.points.push_back(i);
-        bc.nodes.clear();
-        if (has_continuum)
-          for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
-            {
-              const auto &node = continuum->nodes[k];
-              if (node.component == bc.component && discretization.in_region(bc.region, node.x, node.cell))
-                bc.nodes.push_back(k);
-            }
-        if (Utilities::MPI::sum(bc.points.size() + bc.nodes.size(), comm) == 0)
+            bc.dofs.push_back(dim * i + bc.component);
+        if (continuum)
+          for (const auto &node : continuum->nodes)
+            if (node.component == bc.component && discretization.in_region(bc.region, node.x, node.cell))
+              bc.dofs.push_back(state.point_entries() + node.local);
+        if (Utilities::MPI::sum(bc.dofs.size(), comm) == 0)
           record.warnings.push_back("boundary condition '" + bc.name + "' acts on no point (region '" +
                              bc.region + "' is empty)");
       }
@@ -92,7 +86,7 @@ namespace perideal
             std::set_intersection(sx.begin(), sx.end(), sy.begin(), sy.end(), std::back_inserter(both));
             return both.size();
           };
-          const auto n = Utilities::MPI::sum(common(ca.points, cb.points) + common(ca.nodes, cb.nodes), comm);
+          const auto n = Utilities::MPI::sum(common(ca.dofs, cb.dofs), comm);
           if (n > 0)
             record.warnings.push_back("boundary conditions '" + ca.name + "' and '" + cb.name + "' both " +
                                (ca.is_prescribed() ? "prescribe" : "set the initial value of") + " component " +
@@ -102,39 +96,32 @@ namespace perideal
         }
     constraints.clear();
     {
-      // A later condition on the same component of the same point wins.
-      std::map<std::pair<unsigned int, unsigned int>, unsigned int> owner;
+      // A later condition on the same DoF wins.
+      std::map<unsigned int, unsigned int> owner;
       for (unsigned int c = 0; c < conditions.size(); ++c)
         if (conditions[c].is_prescribed())
-          for (const unsigned int i : conditions[c].points)
-            owner[{i, conditions[c].component}] = c;
-      for (const auto &[key, c] : owner)
-        constraints.push_back({key.first, key.second, c});
+          for (const unsigned int k : conditions[c].dofs)
+            owner[k] = c;
+      prescribed.assign(state.size(), 0);
+      for (const auto &[k, c] : owner)
+        {
+          constraints.push_back({k, c});
+          prescribed[k] = 1;
+        }
       constraint_force.assign(constraints.size(), 0.0);
     }
-    node_constraints.clear();
-    if (has_continuum)
-      {
-        std::map<unsigned int, unsigned int> owner;
-        for (unsigned int c = 0; c < conditions.size(); ++c)
-          if (conditions[c].is_prescribed())
-            for (const unsigned int k : conditions[c].nodes)
-              owner[k] = c;
-        for (const auto &[k, c] : owner)
-          node_constraints.push_back({k, c});
-        node_constraint_force.assign(node_constraints.size(), 0.0);
-      }
     body_force.clear();
     loads_depend_on_time = false;
     for (const auto &bc : conditions)
       if (bc.is_load())
         {
           if (bc.type == BoundaryCondition::Type::body_force)
-            body_force.resize(dim * cloud.n_owned(), 0.0);
+            body_force.resize(state.point_entries(), 0.0);
           loads_depend_on_time |= bc.value->depends_on_time();
-          if (has_continuum && continuum->load.size() == 0)
+          if (continuum && continuum->load.size() == 0)
             continuum->load.reinit(continuum->F);
         }
+    fe_load = continuum && continuum->load.size() > 0 ? continuum->load.begin() : nullptr;
   }
 
   void
@@ -145,33 +132,17 @@ namespace perideal
     for (const auto &bc : conditions)
       if (bc.is_initial() || bc.is_prescribed())
         {
-          VectorType &target = (bc.type == BoundaryCondition::Type::initial_velocity ||
-                                bc.type == BoundaryCondition::Type::prescribed_velocity) ?
-                                 state.velocity :
-                                 state.displacement;
-          for (const unsigned int i : bc.points)
-            target.local_element(dim * i + bc.component) =
-              bc.value->value(cloud.position(i), initial_time, cloud.hash(i));
-          if (has_continuum)
-            {
-              ContinuumField::VectorType &fe_target = &target == &state.velocity ? continuum->V : continuum->U;
-              for (const unsigned int k : bc.nodes)
-                fe_target.local_element(continuum->nodes[k].local) =
-                  bc.value->value(continuum->nodes[k].x, initial_time, 0);
-            }
+          const bool velocity = bc.type == BoundaryCondition::Type::initial_velocity ||
+                                bc.type == BoundaryCondition::Type::prescribed_velocity;
+          for (const unsigned int k : bc.dofs)
+            (velocity ? state.v(k) : state.u(k)) = bc.value->value(state.position(k), initial_time, state.hash(k));
         }
-    if (has_continuum && continuum->hanging.n_constraints() > 0)
-      {
-        continuum->hanging.distribute(continuum->U);
-        continuum->hanging.distribute(continuum->V);
-      }
+    state.distribute_displacement();
+    state.distribute_velocity();
     // Where the prescribed velocities start from (apply_prescribed).
     constraint_displacement.resize(constraints.size());
-    for (unsigned int k = 0; k < constraints.size(); ++k)
-      constraint_displacement[k] = state.displacement.local_element(dim * constraints[k].point + constraints[k].component);
-    node_constraint_displacement.resize(node_constraints.size());
-    for (unsigned int k = 0; k < node_constraints.size(); ++k)
-      node_constraint_displacement[k] = continuum->U.local_element(continuum->nodes[node_constraints[k].node].local);
+    for (unsigned int c = 0; c < constraints.size(); ++c)
+      constraint_displacement[c] = state.u(constraints[c].dof);
     evaluate_loads(initial_time);
     check_condition_values(first_nonfinite_condition(initial_time), initial_time);
   }
@@ -179,30 +150,28 @@ namespace perideal
   void
   ConditionSet::evaluate_loads(const double time)
   {
-    const bool fe_loads = has_continuum && continuum->load.size() > 0;
-    if (body_force.empty() && !fe_loads)
+    if (!has_loads())
       return;
     std::fill(body_force.begin(), body_force.end(), 0.0);
-    if (fe_loads)
+    if (fe_load)
       continuum->load = 0;
     for (const auto &bc : conditions)
       if (bc.type == BoundaryCondition::Type::traction)
         continuum->add_face_load(bc.faces, bc.component,
                                  [&](const Point<dim> &x) { return bc.value->value(x, time, 0); });
       else if (bc.type == BoundaryCondition::Type::body_force)
-        {
-          for (const unsigned int i : bc.points)
-            body_force[dim * i + bc.component] += bc.value->value(cloud.position(i), time, cloud.hash(i));
-          // FE nodes: b(x_a) int N_a, i.e. the lumped mass over the density
-          // (exact for a constant b).
-          for (const unsigned int k : bc.nodes)
-            {
-              const auto &node = continuum->nodes[k];
-              continuum->load.local_element(node.local) +=
-                bc.value->value(node.x, time, 0) * continuum->mass.local_element(node.local) / (*node_density)[k];
-            }
-        }
-    if (fe_loads)
+        for (const unsigned int k : bc.dofs)
+          {
+            const double b = bc.value->value(state.position(k), time, state.hash(k));
+            // FE DoFs: b(x_a) int N_a, i.e. the lumped mass over the density
+            // (exact for a constant b).
+            if (state.is_fe(k))
+              continuum->load.local_element(state.fe_local(k)) +=
+                b * state.density(k) / (*node_density)[state.fe_node(k)];
+            else
+              body_force[k] += b;
+          }
+    if (fe_load)
       continuum->load.compress(VectorOperation::add);
   }
 
@@ -210,8 +179,8 @@ namespace perideal
   ConditionSet::first_nonfinite_condition(const double time) const
   {
     for (unsigned int c = 0; c < conditions.size(); ++c)
-      for (const unsigned int i : conditions[c].points)
-        if (!std::isfinite(conditions[c].value->value(cloud.position(i), time, cloud.hash(i))))
+      for (const unsigned int k : conditions[c].dofs)
+        if (!std::isfinite(conditions[c].value->value(state.position(k), time, state.hash(k))))
           return c + 1;
     return 0;
   }
@@ -259,43 +228,18 @@ namespace perideal
       if (!std::isfinite(u) || !std::isfinite(v))
         bad_condition = condition + 1;
     };
-    for (unsigned int k = 0; k < constraints.size(); ++k)
+    for (unsigned int c = 0; c < constraints.size(); ++c)
       {
-        const Constraint  &c = constraints[k];
-        const unsigned int e = dim * c.point + c.component;
-        prescribe(c.condition, cloud.position(c.point), cloud.hash(c.point), state.displacement.local_element(e),
-                  state.velocity.local_element(e), constraint_displacement[k]);
+        const unsigned int k = constraints[c].dof;
+        prescribe(constraints[c].condition, state.position(k), state.hash(k), state.u(k), state.v(k),
+                  constraint_displacement[c]);
       }
-    for (unsigned int k = 0; k < node_constraints.size(); ++k)
-      {
-        const ContinuumField::Node &node = continuum->nodes[node_constraints[k].node];
-        prescribe(node_constraints[k].condition, node.x, 0, continuum->U.local_element(node.local),
-                  continuum->V.local_element(node.local), node_constraint_displacement[k]);
-      }
-  }
-
-  std::vector<std::uint8_t>
-  ConditionSet::fe_prescribed_flags() const
-  {
-    std::vector<std::uint8_t> flags(continuum->U.locally_owned_size(), 0);
-    for (const auto &c : node_constraints)
-      flags[continuum->nodes[c.node].local] = 1;
-    return flags;
   }
 
   double
   ConditionSet::support_force(const Constraint &c) const
   {
-    const unsigned int k = dim * c.point + c.component;
-    return (state.acceleration.empty() ? 0.0 : state.mass_density[c.point] * cloud.volume[c.point] * state.acceleration[k]) -
-           cloud.volume[c.point] * state.force.local_element(k);
-  }
-
-  double
-  ConditionSet::node_support_force(const NodeConstraint &c) const
-  {
-    const unsigned int l = continuum->nodes[c.node].local;
-    return (state.fe_acceleration.empty() ? 0.0 : continuum->mass.local_element(l) * state.fe_acceleration[l]) -
-           continuum->F.local_element(l);
+    const unsigned int k = c.dof;
+    return (state.acceleration.empty() ? 0.0 : state.mass(k) * state.acceleration[k]) - state.measure(k) * state.f(k);
   }
 } // namespace perideal

@@ -298,8 +298,10 @@ namespace perideal
     for (const auto &bc : conditions.conditions)
       {
         // Collective on every rank.
-        const auto nodes = Utilities::MPI::sum(bc.nodes.size(), comm), faces = Utilities::MPI::sum(bc.faces.size(), comm);
-        const auto points = Utilities::MPI::sum(bc.points.size(), comm);
+        const auto   n_fe  = std::count_if(bc.dofs.begin(), bc.dofs.end(), [&](unsigned int k) { return state.is_fe(k); });
+        const auto   nodes = Utilities::MPI::sum(std::size_t(n_fe), comm);
+        const auto   faces = Utilities::MPI::sum(bc.faces.size(), comm);
+        const auto   points = Utilities::MPI::sum(bc.dofs.size() - n_fe, comm);
         pcout << "  condition '" << bc.name << "': "
               << (bc.type == BoundaryCondition::Type::traction ?
                     std::to_string(faces) + " boundary faces" :

@@ -53,6 +53,7 @@ namespace perideal
         coupling = std::make_unique<Coupling>();
         coupling->setup(*discretization, comm);
       }
+    state.number_dofs(*discretization, coupling ? &coupling->continuum : nullptr);
     conditions = std::make_unique<ConditionSet>(deck.conditions, *discretization, state, record, comm);
     conditions->setup(coupling.get());
     post = std::make_unique<Postprocess>(deck, *discretization, *model, *conditions, state, record, comm, pcout, timer);

@@ -6,7 +6,6 @@
 // dt^2)). Beta and gamma are Solver/Implicit/Newmark beta and gamma.
 
 #include <perideal/base/format.h>
-#include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
@@ -98,107 +97,71 @@ namespace perideal
 
     unsigned int n_steps = 0, step = 0;
     double       t0 = 0, beta = 0.25, gamma = 0.5;
-    const std::vector<unsigned int> *fe_dofs = nullptr; // the FE DoFs that carry equations
-    std::vector<double>              v_predicted, fe_v_predicted;
+    std::vector<double>              v_predicted; // per DoF
   };
 
   void
   Newmark::do_initial_timestep()
   {
-    const SolverParameters &solver    = access->deck.solver;
-    MechanicalState        &state     = access->state;
-    ContinuumField         *continuum = access->coupling ? &access->coupling->continuum : nullptr;
-    n_steps                           = solver.requested_steps;
-    t0                                = solver.initial_time;
-    access->record.dt                 = (solver.final_time - solver.initial_time) / n_steps;
+    const SolverParameters &solver = access->deck.solver;
+    MechanicalState        &state  = access->state;
+    n_steps                        = solver.requested_steps;
+    t0                             = solver.initial_time;
+    access->record.dt              = (solver.final_time - solver.initial_time) / n_steps;
     access->post.output.initialize(access->comm);
     access->conditions.apply_initial_conditions(solver.initial_time);
     access->model.breaking_allowed = false;
     ImplicitSolver &newton         = make_solver();
     access->stop_if_interrupted_in_setup();
-    const unsigned int n = dim * access->discretization.cloud.n_owned();
-
-    // The FE nodes of continuum blocks: the same steps over the owned DoFs
-    // that carry equations (hanging ones follow their masters).
-    static const std::vector<unsigned int> no_dofs;
-    fe_dofs = continuum ? &continuum->free : &no_dofs;
-    fe_v_predicted.resize(fe_dofs->size());
-    if (continuum)
-      {
-        newton.fe_u_predicted.assign(continuum->U.locally_owned_size(), 0.0);
-        state.fe_acceleration.assign(continuum->U.locally_owned_size(), 0.0);
-      }
 
     // The initial acceleration from the equation of motion (virtual points
     // have no mass: they follow the FE field).
     access->evaluate_initial_state();
-    state.acceleration.resize(n);
-    for (unsigned int k = 0; k < n; ++k)
-      state.acceleration[k] =
-        state.mass_density[k / dim] > 0 ? state.force.local_element(k) / state.mass_density[k / dim] : 0.0;
-    for (const unsigned int l : *fe_dofs)
-      state.fe_acceleration[l] = continuum->F.local_element(l) / continuum->mass.local_element(l);
+    state.acceleration.assign(state.size(), 0.0);
+    state.for_each([&](const MechanicalState::DoF &d) {
+      state.acceleration[d.number] = d.density > 0 ? d.f / d.density : 0.0;
+    });
     access->record_initial_state(n_steps, t0);
     access->pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of "
                   << sci(access->record.dt, 6) << " from t = " << t0 << "; tangent " << newton.describe_tangent()
                   << std::endl;
 
-    v_predicted.resize(n);
-    newton.u_predicted.resize(n);
+    v_predicted.assign(state.size(), 0.0);
+    newton.u_predicted.assign(state.size(), 0.0);
     start_loop();
   }
 
   void
   Newmark::do_timestep()
   {
-    MechanicalState &state      = access->state;
-    RunRecord       &record     = access->record;
-    ConditionSet    &conditions = access->conditions;
-    ImplicitSolver  &newton     = *implicit_solver;
-    ContinuumField  *continuum  = access->coupling ? &access->coupling->continuum : nullptr;
-    const double     dt         = record.dt;
-    const double     time       = t0 + step * dt;
-    const unsigned int n        = newton.u_predicted.size();
-    double *const      u        = state.displacement.begin();
-    double *const      v        = state.velocity.begin();
-    double *const      U        = continuum ? continuum->U.begin() : nullptr;
-    double *const      V        = continuum ? continuum->V.begin() : nullptr;
-    std::vector<double> &a = state.acceleration, &fe_a = state.fe_acceleration;
+    MechanicalState    &state      = access->state;
+    RunRecord          &record     = access->record;
+    ConditionSet       &conditions = access->conditions;
+    ImplicitSolver     &newton     = *implicit_solver;
+    const double        dt         = record.dt;
+    const double        time       = t0 + step * dt;
+    std::vector<double> &a         = state.acceleration;
 
     access->pcout << "Step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
     const ImplicitSolver::LoadPathState step_start = newton.load_path_state();
-    for (unsigned int k = 0; k < n; ++k)
-      {
-        newton.u_predicted[k] = u[k] + dt * v[k] + 0.5 * dt * dt * (1 - 2 * beta) * a[k];
-        v_predicted[k]        = v[k] + dt * (1 - gamma) * a[k];
-        u[k]                  = newton.u_predicted[k];
-      }
-    for (unsigned int j = 0; j < fe_dofs->size(); ++j)
-      {
-        const unsigned int l     = (*fe_dofs)[j];
-        newton.fe_u_predicted[l] = U[l] + dt * V[l] + 0.5 * dt * dt * (1 - 2 * beta) * fe_a[l];
-        fe_v_predicted[j]        = V[l] + dt * (1 - gamma) * fe_a[l];
-        U[l]                     = newton.fe_u_predicted[l];
-      }
+    state.for_each([&](const MechanicalState::DoF &d) {
+      const unsigned int k  = d.number;
+      newton.u_predicted[k] = d.u + dt * d.v + 0.5 * dt * dt * (1 - 2 * beta) * a[k];
+      v_predicted[k]        = d.v + dt * (1 - gamma) * a[k];
+      d.u                   = newton.u_predicted[k];
+    });
     conditions.apply_prescribed(time, dt);
     if (conditions.loads_depend_on_time)
       conditions.evaluate_loads(time);
     conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
     newton.newmark_inertia = 1 / (beta * dt * dt);
     newton.solve_step(step);
-    for (unsigned int k = 0; k < n; ++k)
-      {
-        a[k] = (u[k] - newton.u_predicted[k]) * newton.newmark_inertia;
-        v[k] = v_predicted[k] + gamma * dt * a[k];
-      }
-    for (unsigned int j = 0; j < fe_dofs->size(); ++j)
-      {
-        const unsigned int l = (*fe_dofs)[j];
-        fe_a[l]              = (U[l] - newton.fe_u_predicted[l]) * newton.newmark_inertia;
-        V[l]                 = fe_v_predicted[j] + gamma * dt * fe_a[l];
-      }
-    if (continuum && continuum->hanging.n_constraints() > 0)
-      continuum->hanging.distribute(continuum->V);
+    state.for_each([&](const MechanicalState::DoF &d) {
+      const unsigned int k = d.number;
+      a[k]                 = (d.u - newton.u_predicted[k]) * newton.newmark_inertia;
+      d.v                  = v_predicted[k] + gamma * dt * a[k];
+    });
+    state.distribute_velocity();
     finish_step(step_start, step, time, n_steps);
   }
 

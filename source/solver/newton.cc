@@ -46,7 +46,8 @@ namespace perideal
     {
       VectorType flags(cloud.vector_partitioner);
       for (const auto &c : access.conditions.constraints)
-        flags.local_element(dim * c.point + c.component) = 1;
+        if (!state.is_fe(c.dof))
+          flags.local_element(c.dof) = 1;
       flags.update_ghost_values();
       constrained_dofs.assign(dim * cloud.n_local(), 0);
       for (unsigned int k = 0; k < dim * cloud.n_local(); ++k)
@@ -60,30 +61,24 @@ namespace perideal
     // null space and the motions some condition must remove.
     std::vector<std::pair<Point<dim>, unsigned int>> unknowns, prescribed;
     std::vector<unsigned int>                        pd_free, fe_free;
+    const std::vector<std::uint8_t>                 &held = access.conditions.prescribed;
+    unknown_dofs.clear();
     if (has_continuum)
-      {
-        for (unsigned int k = 0; k < dim * n_owned; ++k)
-          if (!constrained_dofs[k] && !access.discretization.is_virtual(k / dim))
-            pd_free.push_back(k);
-        const std::vector<std::uint8_t> fe_prescribed = access.conditions.fe_prescribed_flags();
-        for (const auto &c : access.conditions.node_constraints)
-          prescribed.emplace_back(continuum->nodes[c.node].x, continuum->nodes[c.node].component);
-        for (const unsigned int l : continuum->free)
-          if (!fe_prescribed[l])
-            fe_free.push_back(l);
-        std::vector<unsigned int> node_of(continuum->F.locally_owned_size(), 0);
-        for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
-          node_of[continuum->nodes[k].local] = k;
-        for (const unsigned int k : pd_free)
-          unknowns.emplace_back(cloud.position(k / dim), k % dim);
-        for (const unsigned int l : fe_free)
-          unknowns.emplace_back(continuum->nodes[node_of[l]].x, continuum->nodes[node_of[l]].component);
-      }
+      state.for_each([&](const MechanicalState::DoF &d) {
+        if (!held[d.number] && !state.is_virtual(d.number))
+          {
+            unknown_dofs.push_back(d.number);
+            (state.is_fe(d.number) ? fe_free : pd_free)
+              .push_back(state.is_fe(d.number) ? state.fe_local(d.number) : d.number);
+          }
+      });
     else
       for (unsigned int k = 0; k < dim * n_owned; ++k)
-        unknowns.emplace_back(cloud.position(k / dim), k % dim);
+        unknown_dofs.push_back(k);
+    for (const unsigned int k : unknown_dofs)
+      unknowns.emplace_back(state.position(k), state.component(k));
     for (const auto &c : access.conditions.constraints)
-      prescribed.emplace_back(cloud.position(c.point), c.component);
+      prescribed.emplace_back(state.position(c.dof), state.component(c.dof));
 
     std::array<double, dim> centre{{0, 0, 0}};
     {
@@ -146,77 +141,32 @@ namespace perideal
   ImplicitSolver::residual(std::vector<double> &R, double &force_norm)
   {
     TimerOutput::Scope t(timer, "implicit: residual");
-    if (has_continuum)
-      {
-        if (continuum->hanging.n_constraints() > 0)
-          continuum->hanging.distribute(continuum->U);
-        access.coupling->update_virtual_points(state.displacement);
-      }
-    state.displacement.update_ghost_values();
+    state.distribute_displacement();
+    access.update_ghosts();
     access.model.compute_forces(false);
+    // The unknowns' rows (prescribed ones 0): V f at points, the FE nodal
+    // force Pi^T (V f) - K U + load; the force scale over every real point
+    // entry and FE DoF, supports included.
     double free = 0, all = 0;
-    if (has_continuum)
+    const std::vector<std::uint8_t> &held = access.conditions.prescribed;
+    for (unsigned int j = 0; j < unknown_dofs.size(); ++j)
       {
-        // The free DoFs (coupled_tangent.h): V f at real points, the FE nodal
-        // force Pi^T (V f) - K U + load; the force scale over every real point
-        // and FE node, supports included.
-        const std::vector<unsigned int> &pd = coupled_tangent->pd_dofs, &fe = coupled_tangent->fe_dofs;
-        for (unsigned int j = 0; j < pd.size(); ++j)
-          {
-            const unsigned int k = pd[j];
-            R[j]                 = cloud.volume[k / dim] * state.force.local_element(k);
-            if (newmark_inertia > 0)
-              R[j] -= state.mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
-                      (state.displacement.local_element(k) - u_predicted[k]);
-          }
-        for (unsigned int j = 0; j < fe.size(); ++j)
-          {
-            const unsigned int l = fe[j];
-            R[pd.size() + j]     = continuum->F.local_element(l);
-            if (newmark_inertia > 0)
-              R[pd.size() + j] -= continuum->mass.local_element(l) * newmark_inertia *
-                                  (continuum->U.local_element(l) - fe_u_predicted[l]);
-          }
-        for (const double r : R)
-          free += r * r;
-        for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
-          if (!access.discretization.is_virtual(k / dim))
-            all += std::pow(cloud.volume[k / dim] * state.force.local_element(k), 2);
-        for (const unsigned int l : continuum->free)
-          all += std::pow(continuum->F.local_element(l), 2);
+        const unsigned int k = unknown_dofs[j];
+        double             r = state.measure(k) * state.f(k);
+        if (newmark_inertia > 0)
+          r -= state.mass(k) * newmark_inertia * (state.u(k) - u_predicted[k]);
+        R[j] = held[k] ? 0 : r;
+        free += R[j] * R[j];
       }
-    else
-      for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
-        {
-          double r = cloud.volume[k / dim] * state.force.local_element(k);
-          if (newmark_inertia > 0)
-            r -= state.mass_density[k / dim] * cloud.volume[k / dim] * newmark_inertia *
-                 (state.displacement.local_element(k) - u_predicted[k]);
-          R[k] = constrained_dofs[k] ? 0 : r;
-          free += R[k] * R[k];
-          const double F = cloud.volume[k / dim] * state.force.local_element(k);
-          all += F * F;
-        }
+    state.for_each([&](const MechanicalState::DoF &d) {
+      const double F = d.measure * d.f;
+      if (!state.is_virtual(d.number))
+        all += F * F;
+    });
     double sums[2] = {free, all};
     Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
     force_norm = std::sqrt(sums[1]);
     return std::sqrt(sums[0]);
-  }
-
-  unsigned int
-  ImplicitSolver::n_unknowns() const
-  {
-    return has_continuum ? coupled_tangent->pd_dofs.size() + coupled_tangent->fe_dofs.size() : dim * cloud.n_owned();
-  }
-
-  double &
-  ImplicitSolver::unknown(const unsigned int j)
-  {
-    if (!has_continuum)
-      return state.displacement.local_element(j);
-    const std::vector<unsigned int> &pd = coupled_tangent->pd_dofs;
-    return j < pd.size() ? state.displacement.local_element(pd[j]) :
-                           continuum->U.local_element(coupled_tangent->fe_dofs[j - pd.size()]);
   }
 
   void
@@ -388,19 +338,16 @@ namespace perideal
   ImplicitSolver::LoadPathState
   ImplicitSolver::load_path_state() const
   {
-    LoadPathState s;
-    for (const auto &c : access.conditions.constraints)
-      s.support.push_back(access.conditions.support_force(c));
-    for (const auto &c : access.conditions.node_constraints)
-      s.node_support.push_back(access.conditions.node_support_force(c));
-    s.u.assign(state.displacement.begin(), state.displacement.begin() + dim * cloud.n_owned());
-    s.body = access.conditions.body_force;
-    if (has_continuum)
-      {
-        s.fe_u.assign(continuum->U.begin(), continuum->U.begin() + continuum->U.locally_owned_size());
-        if (continuum->load.size() > 0)
-          s.load.assign(continuum->load.begin(), continuum->load.begin() + continuum->load.locally_owned_size());
-      }
+    const ConditionSet &conditions = access.conditions;
+    LoadPathState       s;
+    for (const auto &c : conditions.constraints)
+      s.support.push_back(conditions.support_force(c));
+    s.u.resize(state.size());
+    for (unsigned int k = 0; k < state.size(); ++k)
+      s.u[k] = state.u(k);
+    if (conditions.has_loads())
+      for (unsigned int k = 0; k < state.size(); ++k)
+        s.load.push_back(conditions.load(k));
     return s;
   }
 
@@ -409,33 +356,19 @@ namespace perideal
   {
     // Trapezoidal sums of force x displacement increment: exact while the
     // forces change linearly over the step (a linear material, small strain).
-    double        work = 0;
-    const double *u    = state.displacement.begin();
-    for (unsigned int c = 0; c < access.conditions.constraints.size(); ++c)
+    const ConditionSet &conditions = access.conditions;
+    double              work       = 0;
+    for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
       {
-        const unsigned int k = dim * access.conditions.constraints[c].point + access.conditions.constraints[c].component;
-        work += 0.5 * (start.support[c] + access.conditions.support_force(access.conditions.constraints[c])) * (u[k] - start.u[k]);
+        const unsigned int k = conditions.constraints[c].dof;
+        work += 0.5 * (start.support[c] + conditions.support_force(conditions.constraints[c])) * (state.u(k) - start.u[k]);
       }
-    // A body force on a prescribed entry is balanced by its support.
-    for (unsigned int k = 0; k < access.conditions.body_force.size(); ++k)
-      if (!constrained_dofs[k])
-        work += 0.5 * (start.body[k] + access.conditions.body_force[k]) * cloud.volume[k / dim] * (u[k] - start.u[k]);
-    if (has_continuum)
-      {
-        const double *U = continuum->U.begin();
-        for (unsigned int c = 0; c < access.conditions.node_constraints.size(); ++c)
-          {
-            const unsigned int l = continuum->nodes[access.conditions.node_constraints[c].node].local;
-            work += 0.5 * (start.node_support[c] + access.conditions.node_support_force(access.conditions.node_constraints[c])) * (U[l] - start.fe_u[l]);
-          }
-        if (!start.load.empty())
-          {
-            const std::vector<std::uint8_t> prescribed = access.conditions.fe_prescribed_flags();
-            for (const unsigned int l : continuum->free)
-              if (!prescribed[l])
-                work += 0.5 * (start.load[l] + continuum->load.local_element(l)) * (U[l] - start.fe_u[l]);
-          }
-      }
+    // A load on a prescribed DoF is balanced by its support.
+    if (!start.load.empty())
+      state.for_each([&](const MechanicalState::DoF &d) {
+        if (!conditions.prescribed[d.number])
+          work += 0.5 * (start.load[d.number] + conditions.load(d.number)) * d.measure * (d.u - start.u[d.number]);
+      });
     return Utilities::MPI::sum(work, comm);
   }
 
@@ -518,8 +451,6 @@ namespace perideal
     std::vector<double> reaction(conditions.conditions.size(), 0.0);
     for (const auto &c : conditions.constraints)
       reaction[c.condition] += conditions.support_force(c);
-    for (const auto &c : conditions.node_constraints)
-      reaction[c.condition] += conditions.node_support_force(c);
     Utilities::MPI::sum(reaction, access->comm, reaction);
     for (unsigned int c = 0; c < conditions.conditions.size(); ++c)
       if (conditions.conditions[c].is_prescribed())

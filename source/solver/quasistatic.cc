@@ -7,7 +7,6 @@
 // over each step.
 
 #include <perideal/base/format.h>
-#include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
@@ -99,9 +98,7 @@ namespace perideal
     conditions.apply_prescribed(time, dt_load);
     // No motion between load steps (apply_prescribed sets the supports'
     // rate), so no kinetic energy.
-    access->state.velocity = 0;
-    if (access->coupling)
-      access->coupling->continuum.V = 0;
+    access->state.set_velocity_zero();
     if (conditions.loads_depend_on_time)
       conditions.evaluate_loads(time);
     conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);

@@ -1,7 +1,7 @@
 // Explicit velocity-Verlet with lumped mass (Solver/Type = Verlet):
 //   v += dt/2 f/rho;  u += dt v;  prescribed entries;  f = f(u);  v += dt/2 f/rho
-// over the PD points, and the same over the free FE DoFs of continuum blocks
-// with their lumped mass. The step is a safety factor times the smallest
+// over every DoF of the mechanical state, PD point entries and FE DoFs (with
+// their lumped mass) alike. The step is a safety factor times the smallest
 // stable estimate (or fixed), shortened while a point with intact bonds moves
 // more than a fraction of the point spacing per step. The work of supports
 // and loads is summed per step (trapezoid rule), so the energy balance of the
@@ -12,7 +12,6 @@
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
 #include <perideal/conditions/condition_set.h>
-#include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
@@ -152,16 +151,9 @@ namespace perideal
     std::chrono::steady_clock::time_point start, last_print;
     double                                last_percent = 0;
 
-    // What the steps keep.
-    std::vector<bool>         constrained; // per PD entry
-    std::vector<double>       inverse_density, u_previous, v_previous;
+    // What the steps keep, per DoF (MechanicalState's numbering).
+    std::vector<double>       u_previous, v_previous, load_previous;
     std::vector<std::uint8_t> broken_before; // the bonds' state before a step's breaks
-    const std::vector<unsigned int> *fe_free = nullptr;
-    std::vector<double>       fe_inverse_mass, U_previous, V_previous;
-    std::vector<std::uint8_t> fe_constrained;
-    std::vector<int>          constrained_free; // per node constraint: index into fe_free, -1: none
-    bool                      fe_hanging = false;
-    std::vector<double>       body_previous, load_previous; // the loads at the start of a step
   };
 
   void
@@ -171,9 +163,7 @@ namespace perideal
     RunRecord              &record     = access->record;
     ConditionSet           &conditions = access->conditions;
     MechanicalState        &state      = access->state;
-    const PointCloud       &cloud      = access->discretization.cloud;
     const MPI_Comm          comm       = access->comm;
-    ContinuumField         *continuum  = access->coupling ? &access->coupling->continuum : nullptr;
 
     n_steps = solver.requested_steps;
     if (n_steps == 0)
@@ -198,55 +188,18 @@ namespace perideal
     access->stop_if_interrupted_in_setup();
     access->post.output.initialize(comm);
 
-    const unsigned int n       = cloud.n_owned();
-    const unsigned int entries = dim * n;
     conditions.apply_initial_conditions(solver.initial_time);
     access->evaluate_initial_state();
     access->record_initial_state(n_steps, solver.initial_time);
-    for (unsigned int k = 0; k < conditions.constraints.size(); ++k)
-      conditions.constraint_force[k] =
-        state.force.local_element(dim * conditions.constraints[k].point + conditions.constraints[k].component);
-
-    // The constrained entries (the rest follow the equations of motion).
-    constrained.assign(entries, false);
-    for (const auto &c : conditions.constraints)
-      constrained[dim * c.point + c.component] = true;
-
-    inverse_density.resize(n);
-    for (unsigned int i = 0; i < n; ++i)
-      inverse_density[i] =
-        state.mass_density[i] > 0 ? 1 / state.mass_density[i] : 0.0; // virtual points follow the FE field
-    u_previous.resize(entries);
-    v_previous.resize(entries);
-
-    // The FE nodes of continuum blocks: the same velocity-Verlet steps with
-    // the lumped mass, over the owned DoFs free of hanging-node constraints.
-    static const std::vector<unsigned int> no_dofs;
-    fe_free = continuum ? &continuum->free : &no_dofs;
-    fe_inverse_mass.resize(fe_free->size());
-    U_previous.resize(fe_free->size());
-    V_previous.resize(fe_free->size());
-    if (continuum)
-      {
-        fe_constrained = conditions.fe_prescribed_flags();
-        for (unsigned int j = 0; j < fe_free->size(); ++j)
-          fe_inverse_mass[j] =
-            fe_constrained[(*fe_free)[j]] ? 0.0 : 1 / continuum->mass.local_element((*fe_free)[j]);
-        for (unsigned int k = 0; k < conditions.node_constraints.size(); ++k)
-          {
-            const unsigned int local = continuum->nodes[conditions.node_constraints[k].node].local;
-            conditions.node_constraint_force[k] = continuum->F.local_element(local);
-            // Its place among the free DoFs; a hanging node follows its masters.
-            const auto j = std::lower_bound(fe_free->begin(), fe_free->end(), local);
-            constrained_free.push_back(j != fe_free->end() && *j == local ? j - fe_free->begin() : -1);
-          }
-      }
-    fe_hanging = continuum && Utilities::MPI::sum(continuum->hanging.n_constraints(), comm) > 0;
+    for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
+      conditions.constraint_force[c] = state.f(conditions.constraints[c].dof);
+    u_previous.resize(state.size());
+    v_previous.resize(state.size());
     // The loads at the start of a step (constant loads: the same as at its end).
-    body_previous = conditions.body_force;
-    if (continuum && continuum->load.size() > 0)
-      for (const unsigned int k : *fe_free)
-        load_previous.push_back(continuum->load.local_element(k));
+    load_previous.clear();
+    if (conditions.has_loads())
+      for (unsigned int k = 0; k < state.size(); ++k)
+        load_previous.push_back(conditions.load(k));
 
     access->pcout << "Time integration: " << n_steps << " steps of " << sci(record.dt, 6)
                   << " from t = " << solver.initial_time
@@ -278,15 +231,8 @@ namespace perideal
     MechanicalState        &state      = access->state;
     ForceModel             &model      = access->model;
     Postprocess            &post       = access->post;
-    const PointCloud       &cloud      = access->discretization.cloud;
     const MPI_Comm          comm       = access->comm;
     TimerOutput            &timer      = access->timer;
-    ContinuumField         *continuum  = access->coupling ? &access->coupling->continuum : nullptr;
-    const unsigned int      n          = cloud.n_owned();
-    const unsigned int      entries    = dim * n;
-    double *const           u          = state.displacement.begin();
-    double *const           v          = state.velocity.begin();
-    double *const           f          = state.force.begin();
     double                 &dt         = record.dt;
 
     ++step;
@@ -309,36 +255,20 @@ namespace perideal
     const unsigned int steps_now = counted ? n_steps : last ? step : 0; // for the output steps
     {
       TimerOutput::Scope t(timer, "time integration");
-      std::copy(u, u + entries, u_previous.begin());
-      std::copy(v, v + entries, v_previous.begin());
       // Half kick and drift; the force already holds the body force.
-      for (unsigned int k = 0; k < entries; ++k)
-        {
-          v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
-          u[k] += dt * v[k];
-        }
-      if (continuum)
-        {
-          double *const       U = continuum->U.begin(), *const V = continuum->V.begin();
-          const double *const F = continuum->F.begin();
-          for (unsigned int j = 0; j < fe_free->size(); ++j)
-            {
-              const unsigned int k = (*fe_free)[j];
-              U_previous[j]        = U[k];
-              V_previous[j]        = V[k];
-              V[k] += 0.5 * dt * F[k] * fe_inverse_mass[j];
-              U[k] += dt * V[k];
-            }
-        }
+      state.for_each([&](const MechanicalState::DoF &d) {
+        u_previous[d.number] = d.u;
+        v_previous[d.number] = d.v;
+        d.v += 0.5 * dt * d.f * d.inverse_density;
+        d.u += dt * d.v;
+      });
       conditions.apply_prescribed(new_time, dt);
-      if (fe_hanging)
-        continuum->hanging.distribute(continuum->U);
+      state.distribute_displacement();
       if (conditions.loads_depend_on_time)
         {
           // The work of a load over the step is the trapezoid of its two ends.
-          body_previous = conditions.body_force;
-          for (unsigned int j = 0; j < load_previous.size(); ++j)
-            load_previous[j] = continuum->load.local_element((*fe_free)[j]);
+          for (unsigned int k = 0; k < load_previous.size(); ++k)
+            load_previous[k] = conditions.load(k);
           conditions.evaluate_loads(new_time);
         }
     }
@@ -355,68 +285,32 @@ namespace perideal
     double ke = 0, work = 0;
     {
       TimerOutput::Scope t(timer, "time integration");
-      for (unsigned int k = 0; k < entries; ++k)
-        v[k] += 0.5 * dt * f[k] * inverse_density[k / dim];
-      // Prescribed velocities stay as prescribed.
+      state.for_each([&](const MechanicalState::DoF &d) { d.v += 0.5 * dt * d.f * d.inverse_density; });
+      // Prescribed velocities stay as prescribed. The work of a support:
+      // the change of kinetic energy of its DoF minus the work of the
+      // internal force on it.
       for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
         {
-          const ConditionSet::Constraint &con = conditions.constraints[c];
-          const unsigned int              e   = dim * con.point + con.component;
-          const BoundaryCondition        &bc  = conditions.conditions[con.condition];
+          const unsigned int k = conditions.constraints[c].dof;
+          if (state.is_hanging(k)) // follows its masters
+            continue;
+          const BoundaryCondition &bc = conditions.conditions[conditions.constraints[c].condition];
+          double                  &vk = state.v(k);
+          const double             du = state.u(k) - u_previous[k], f = state.f(k);
           if (bc.type == BoundaryCondition::Type::prescribed_velocity)
-            v[e] = bc.value->value(cloud.position(con.point), new_time, cloud.hash(con.point));
+            vk = bc.value->value(state.position(k), new_time, state.hash(k));
           else
-            v[e] = (u[e] - u_previous[e]) / dt;
-          // Work of the reaction: the change of kinetic energy of the
-          // constrained entry minus the work of the internal force on it.
-          const double mass = state.mass_density[con.point] * cloud.volume[con.point];
-          work += 0.5 * mass * (v[e] * v[e] - v_previous[e] * v_previous[e]) -
-                  0.5 * (conditions.constraint_force[c] + f[e]) * cloud.volume[con.point] * (u[e] - u_previous[e]);
-          conditions.constraint_force[c] = f[e];
+            vk = du / dt;
+          work += 0.5 * state.mass(k) * (vk * vk - v_previous[k] * v_previous[k]) -
+                  0.5 * (conditions.constraint_force[c] + f) * state.measure(k) * du;
+          conditions.constraint_force[c] = f;
         }
-      const std::vector<double> &body_force = conditions.body_force;
-      if (!body_force.empty())
-        for (unsigned int k = 0; k < entries; ++k)
-          if (!constrained[k])
-            work += 0.5 * (body_force[k] + body_previous[k]) * cloud.volume[k / dim] * (u[k] - u_previous[k]);
-      for (unsigned int i = 0; i < n; ++i)
-        ke += 0.5 * state.mass_density[i] * cloud.volume[i] *
-              (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-      if (continuum)
-        {
-          double *const       U = continuum->U.begin(), *const V = continuum->V.begin();
-          const double *const F = continuum->F.begin(), *const M = continuum->mass.begin();
-          for (unsigned int j = 0; j < fe_free->size(); ++j)
-            {
-              const unsigned int k = (*fe_free)[j];
-              V[k] += 0.5 * dt * F[k] * fe_inverse_mass[j];
-            }
-          // The same bookkeeping as for the prescribed point entries;
-          // F is a nodal force, M a nodal mass.
-          for (unsigned int c = 0; c < conditions.node_constraints.size(); ++c)
-            {
-              const auto              &con  = conditions.node_constraints[c];
-              const auto              &node = continuum->nodes[con.node];
-              const BoundaryCondition &bc   = conditions.conditions[con.condition];
-              const unsigned int       k    = node.local;
-              if (constrained_free[c] < 0)
-                continue;
-              const unsigned int j = constrained_free[c];
-              if (bc.type == BoundaryCondition::Type::prescribed_velocity)
-                V[k] = bc.value->value(node.x, new_time, 0);
-              else
-                V[k] = (U[k] - U_previous[j]) / dt;
-              work += 0.5 * M[k] * (V[k] * V[k] - V_previous[j] * V_previous[j]) -
-                      0.5 * (conditions.node_constraint_force[c] + F[k]) * (U[k] - U_previous[j]);
-              conditions.node_constraint_force[c] = F[k];
-            }
-          if (continuum->load.size() > 0)
-            for (unsigned int j = 0; j < fe_free->size(); ++j)
-              if (!fe_constrained[(*fe_free)[j]])
-                work += 0.5 * (continuum->load.local_element((*fe_free)[j]) + load_previous[j]) *
-                        (U[(*fe_free)[j]] - U_previous[j]);
-          ke += continuum->local_kinetic_energy();
-        }
+      const std::vector<std::uint8_t> &prescribed = conditions.prescribed;
+      state.for_each([&](const MechanicalState::DoF &d) {
+        ke += 0.5 * d.density * d.measure * d.v * d.v;
+        if (!load_previous.empty() && !prescribed[d.number])
+          work += 0.5 * (conditions.load(d.number) + load_previous[d.number]) * d.measure * (d.u - u_previous[d.number]);
+      });
     }
     if (conditions.loads_depend_on_time)
       for (const double b : conditions.body_force)
@@ -502,17 +396,12 @@ namespace perideal
                                 "loading or an initial state beyond what the material carries, or a time step too "
                                 "close to the limit (lower Solver/Verlet/Safety factor)";
     // Write the last good state, then stop.
-    MechanicalState &state     = access->state;
-    ContinuumField  *continuum = access->coupling ? &access->coupling->continuum : nullptr;
-    std::copy(u_previous.begin(), u_previous.end(), state.displacement.begin());
-    std::copy(v_previous.begin(), v_previous.end(), state.velocity.begin());
-    for (unsigned int j = 0; j < fe_free->size(); ++j)
-      {
-        continuum->U.local_element((*fe_free)[j]) = U_previous[j];
-        continuum->V.local_element((*fe_free)[j]) = V_previous[j];
-      }
-    if (fe_hanging)
-      continuum->hanging.distribute(continuum->U);
+    MechanicalState &state = access->state;
+    state.for_each([&](const MechanicalState::DoF &d) {
+      d.u = u_previous[d.number];
+      d.v = v_previous[d.number];
+    });
+    state.distribute_displacement();
     access->update_ghosts();
     Postprocess &post = access->post;
     if (post.output.frequency > 0)

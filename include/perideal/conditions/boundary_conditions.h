@@ -56,11 +56,10 @@ namespace perideal
     int                         boundary_id = -1; // traction: faces with this id; -1: by region
     std::unique_ptr<Expression> value;
 
-    /// Owned points of the region, set by the core (virtual points excluded).
-    std::vector<unsigned int> points;
-    /// Owned FE DoFs of this component in the region (indices into
-    /// ContinuumField::nodes), set by the core in runs with continuum blocks.
-    std::vector<unsigned int> nodes;
+    /// The owned DoFs of this component in the region (MechanicalState's
+    /// numbering: point entries, virtual points excluded, and FE DoFs), set
+    /// by the core.
+    std::vector<unsigned int> dofs;
     /// Traction: owned boundary faces of FE cells (cell, face number).
     std::vector<std::pair<CellIterator, unsigned int>> faces;
   };

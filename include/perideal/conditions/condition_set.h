@@ -1,9 +1,9 @@
 #pragma once
 // The boundary and initial conditions of a run as sets of degrees of
-// freedom: per condition its PD points, FE nodes or boundary faces; the
-// prescribed entries (a later condition on the same entry wins), the loads
-// (body force density at PD points, nodal loads of FE nodes) and the force
-// the supports put on the body.
+// freedom (MechanicalState's numbering, points' and FE DoFs alike) or
+// boundary faces; the prescribed DoFs (a later condition on the same DoF
+// wins), the loads (body force density at point entries, nodal loads at FE
+// DoFs) and the force the supports put on the body.
 
 #include <perideal/conditions/boundary_conditions.h>
 #include <perideal/discretization/discretization.h>
@@ -35,7 +35,7 @@ namespace perideal
     /// velocities start from), the loads at @p time. Collective.
     void
     apply_initial_conditions(const double time);
-    /// body_force (PD points) and the FE load (body forces at nodes,
+    /// body_force (point entries) and the FE load (body forces at nodes,
     /// tractions on faces) of the load conditions at @p time (if any).
     void
     evaluate_loads(const double time);
@@ -49,34 +49,36 @@ namespace perideal
     /// Collective: stops naming the condition and point if any rank has @p bad_local > 0.
     void
     check_condition_values(const unsigned int bad_local, const double time) const;
-    /// Per owned FE DoF: 1 if a prescribed condition holds it.
-    std::vector<std::uint8_t>
-    fe_prescribed_flags() const;
+    /// The load on DoF @p k: body force density at a point entry, nodal
+    /// load at an FE DoF (0 where none).
+    double
+    load(const unsigned int k) const
+    {
+      if (state.is_fe(k))
+        return fe_load ? fe_load[state.fe_local(k)] : 0.0;
+      return body_force.empty() ? 0.0 : body_force[k];
+    }
+    bool
+    has_loads() const
+    {
+      return !body_force.empty() || fe_load != nullptr;
+    }
 
     struct Constraint
     {
-      unsigned int point, component, condition;
+      unsigned int dof, condition;
     };
-    struct NodeConstraint
-    {
-      unsigned int node, condition; // index into the continuum's nodes
-    };
-    /// The force the support of prescribed entry @p c puts on the body:
-    /// m a - V f (quasistatic, no acceleration: -V f).
+    /// The force the support of prescribed DoF @p c puts on the body:
+    /// m a - w f (without acceleration, quasistatic: -w f).
     double
     support_force(const Constraint &c) const;
-    /// The same at an FE node: M a - F.
-    double
-    node_support_force(const NodeConstraint &c) const;
 
     std::vector<BoundaryCondition> &conditions;
-    std::vector<Constraint>         constraints;               // prescribed (point, component)
-    std::vector<double>             constraint_force;          // internal force there, previous step
-    std::vector<double>             constraint_displacement;   // per constraint: its own u (prescribed velocity)
-    std::vector<NodeConstraint>     node_constraints;
-    std::vector<double>             node_constraint_force;
-    std::vector<double>             node_constraint_displacement;
-    std::vector<double>             body_force; // per owned point and component; empty if none
+    std::vector<Constraint>         constraints;             // the prescribed DoFs, by number
+    std::vector<std::uint8_t>       prescribed;              // per DoF: 1 if a constraint holds it
+    std::vector<double>             constraint_force;        // f there, previous step (Verlet)
+    std::vector<double>             constraint_displacement; // per constraint: its own u (prescribed velocity)
+    std::vector<double>             body_force; // per point entry; empty if none
     bool                            loads_depend_on_time = false;
     unsigned int                    bad_condition = 0; // 1 + index of a condition that gave a non-finite value
 
@@ -88,6 +90,6 @@ namespace perideal
     MPI_Comm              comm;
     ContinuumField       *continuum = nullptr;
     const std::vector<double> *node_density = nullptr;
-    bool                       has_continuum = false;
+    const double              *fe_load      = nullptr; // the continuum's nodal load, if any
   };
 } // namespace perideal

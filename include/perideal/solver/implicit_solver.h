@@ -49,7 +49,7 @@ namespace perideal
     /// supports' forces, the displacements and the loads.
     struct LoadPathState
     {
-      std::vector<double> support, node_support, u, fe_u, body, load;
+      std::vector<double> support, u, load; // per constraint, per DoF, per DoF (empty without loads)
     };
     LoadPathState
     load_path_state() const;
@@ -59,8 +59,7 @@ namespace perideal
     load_path_work(const LoadPathState &start) const;
 
     double              newmark_inertia = 0; // 1/(beta dt^2); 0: quasistatic
-    std::vector<double> u_predicted;         // Newmark predictor, owned DoFs
-    std::vector<double> fe_u_predicted;      // Newmark predictor, owned FE DoFs (continuum blocks)
+    std::vector<double> u_predicted;         // Newmark predictor, per DoF of the mechanical state
 
   private:
     NewtonResult
@@ -69,12 +68,17 @@ namespace perideal
     /// returns |R| and sets |V (f + b)| over all DoFs (the force scale).
     double
     residual(std::vector<double> &R, double &force_norm);
-    /// The unknowns on this rank: every owned PD DoF, or with continuum
-    /// blocks the free DoFs of coupled_tangent.h.
+    /// The unknowns on this rank (unknown_dofs).
     unsigned int
-    n_unknowns() const;
+    n_unknowns() const
+    {
+      return unknown_dofs.size();
+    }
     double &
-    unknown(const unsigned int j);
+    unknown(const unsigned int j)
+    {
+      return state.u(unknown_dofs[j]);
+    }
     void
     assemble_tangent();
     /// Solves K du = R; returns the Krylov iterations.
@@ -97,7 +101,11 @@ namespace perideal
     std::unique_ptr<Tangent>        tangent;
     std::unique_ptr<CoupledTangent> coupled_tangent; // with continuum blocks
     bool                            symmetry_reported = false;
-    std::vector<std::uint8_t>       constrained_dofs; // per local DoF
+    std::vector<std::uint8_t>       constrained_dofs; // per local point entry, ghosts too
+    // The unknowns, by DoF number: every point entry (prescribed ones get
+    // identity rows), or with continuum blocks the free DoFs of
+    // coupled_tangent.h (real points' entries, then FE DoFs).
+    std::vector<unsigned int>       unknown_dofs;
     std::vector<double>             rigid_modes;      // 6 x owned DoFs, column major
     std::vector<double>             block_inverse;    // matrix free: 9 per owned point
     std::unique_ptr<dealii::TrilinosWrappers::PreconditionAMG> amg; // of the current solve
