@@ -1,4 +1,5 @@
 #include <perideal/output/output.h>
+#include <perideal/output/output_field.h>
 
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/base/utilities.h>
@@ -16,21 +17,22 @@ namespace perideal
 {
   using namespace dealii;
 
-  std::vector<std::string>
-  OutputWriter::variable_names(const std::vector<std::string> &model_fields)
-  {
-    std::vector<std::string> names = {"Displacement", "Velocity", "Acceleration", "Force density", "Damage"};
-    names.insert(names.end(), model_fields.begin(), model_fields.end());
-    names.insert(names.end(), {"Number of neighbors", "Block", "Rank"});
-    return names;
-  }
-
   void
-  OutputWriter::declare_parameters(ParameterHandler &prm, const std::vector<std::string> &model_fields)
+  OutputWriter::declare_parameters(ParameterHandler                                       &prm,
+                                   const std::vector<std::pair<std::string, std::string>> &model_fields)
   {
-    std::string selection;
-    for (const auto &n : variable_names(model_fields))
-      selection += (selection.empty() ? "" : "|") + n;
+    // The valid names and their documentation from the registered fields and
+    // the models'; consecutive names of one documentation share it.
+    const std::vector<OutputVariable> variables = output_variables(model_fields);
+    std::string                       selection, documentation;
+    for (unsigned int k = 0; k < variables.size(); ++k)
+      {
+        const bool shared = k > 0 && variables[k - 1].documentation == variables[k].documentation;
+        selection += (k == 0 ? "" : "|") + variables[k].name;
+        documentation += (shared ? ", " : " ") + variables[k].name;
+        if (k + 1 == variables.size() || variables[k + 1].documentation != variables[k].documentation)
+          documentation += ": " + variables[k].documentation;
+      }
     prm.declare_entry("Directory", "output", Patterns::Anything(),
                       "Where output goes; created if missing. Every run (not --dry-run) first writes "
                       "<base name>.parameters.prm there: all its parameters, defaults included, in this "
@@ -43,7 +45,8 @@ namespace perideal
                       "0: write nothing during the run (the summary is still printed).");
     prm.declare_entry("Variables", "Displacement, Damage", Patterns::MultipleSelection(selection),
                       "Fields written as cell data (constant per point); only these are "
-                      "computed. Empty: no field files, only the globals CSV.");
+                      "computed. Empty: no field files, only the globals CSV." +
+                        documentation);
     prm.declare_entry("Globals frequency", "0", Patterns::Integer(0),
                       "Write a globals row every this many steps (plus the first and the last); 0: "
                       "with the fields (Frequency). A fine history (reaction force, crack tip probes) "

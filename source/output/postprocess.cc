@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -41,7 +40,24 @@ namespace perideal
     , computes(deck.computes)
     , cloud(discretization.cloud)
     , bonds(discretization.bonds)
-  {}
+  {
+    // The fields Output/Variables asks for, in the files' order.
+    for (auto &v : output_variables(model_output_fields()))
+      if (output.wants(v.name))
+        fields.push_back(std::move(v));
+  }
+
+  ComputeData
+  Postprocess::compute_data() const
+  {
+    return {cloud,
+            bonds,
+            state,
+            model,
+            continuum,
+            coupling ? &coupling->node_density : nullptr,
+            Utilities::MPI::this_mpi_process(comm)};
+  }
 
   void
   Postprocess::setup(Coupling *coupling_)
@@ -111,7 +127,7 @@ namespace perideal
                                                     {"external_work", record.external_work},
                                                     {"broken_bonds", broken_bonds},
                                                     {"max_damage", max_damage}};
-    const ComputeData data{cloud, state, model, continuum, coupling ? &coupling->node_density : nullptr};
+    const ComputeData data = compute_data();
     for (const auto &compute : computes)
       row.emplace_back(compute.name, compute.evaluate(data, time, comm));
     {
@@ -141,80 +157,49 @@ namespace perideal
         return;
       }
 
-    const unsigned int n             = cloud.n_owned();
+    const unsigned int                           n    = cloud.n_owned();
+    const ComputeData                            data = compute_data();
     std::vector<std::unique_ptr<Vector<double>>> cell_storage;
     std::vector<OutputWriter::CellField>         cell_fields;
-    auto cell_field = [&](const std::string &name, const std::function<double(unsigned int)> &value) {
-      if (!output.wants(name))
-        return;
-      cell_storage.push_back(std::make_unique<Vector<double>>(discretization.triangulation.n_active_cells()));
-      for (unsigned int i = 0; i < n; ++i)
-        if (!discretization.is_virtual(i))
-          (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = value(i);
-      cell_fields.emplace_back(name, cell_storage.back().get());
-    };
-    cell_field("Damage", [&](unsigned int i) { return model.point_damage(i); });
-    auto field_or_zero = [&](const std::string &field) {
-      const VectorType *values = model.field(field);
-      return [values](unsigned int i) { return values ? values->local_element(i) : 0.0; };
-    };
-    for (const auto &[output_name, field] : model_output_fields())
-      cell_field(output_name, field_or_zero(field));
-    cell_field("Number of neighbors", [&](unsigned int i) { return double(bonds.offsets[i + 1] - bonds.offsets[i]); });
-    cell_field("Block", [&](unsigned int i) { return double(cloud.block[i]); });
-    if (has_continuum && output.wants("Block"))
-      for (unsigned int i = 0; i < n; ++i)
-        if (discretization.is_virtual(i))
-          (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = cloud.block[i];
-    const double rank = Utilities::MPI::this_mpi_process(comm);
-    cell_field("Rank", [&](unsigned int) { return rank; });
-
-    std::vector<std::unique_ptr<VectorType>> vector_storage;
-    std::vector<OutputWriter::VectorField>   vector_fields;
-    std::vector<types::global_dof_index>     dofs(dim);
-    // On FE cells the nodal values (@p fe_value of a node), with the ghosts
-    // the FE cells' output needs.
+    std::vector<std::unique_ptr<VectorType>>     vector_storage;
+    std::vector<OutputWriter::VectorField>       vector_fields;
+    std::vector<types::global_dof_index>         dofs(dim);
+    // On FE cells a vector takes its nodal values, with the ghosts the FE
+    // cells' output needs.
     IndexSet relevant;
     if (has_continuum)
       DoFTools::extract_locally_relevant_dofs(discretization.dof_handler, relevant);
-    auto vector_field = [&](const std::string                                 &name,
-                            const std::function<double(unsigned int)>         &value,
-                            const std::function<double(unsigned int)>         &fe_value) {
-      if (!output.wants(name))
-        return;
-      vector_storage.push_back(has_continuum ?
-                                 std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), relevant, comm) :
-                                 std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), comm));
-      VectorType &out = *vector_storage.back();
-      for (unsigned int i = 0; i < n; ++i)
-        if (!discretization.is_virtual(i))
-          {
-            cloud.cell[i]->get_dof_indices(dofs);
-            for (unsigned int d = 0; d < dim; ++d)
-              out(dofs[d]) = value(dim * i + d);
-          }
-      if (has_continuum)
+    for (const auto &[name, documentation, field] : fields)
+      if (field->n_components() == 1)
         {
-          for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
-            out.local_element(continuum->nodes[k].local) = fe_value(k);
-          continuum->hanging.distribute(out);
-          out.update_ghost_values();
+          cell_storage.push_back(std::make_unique<Vector<double>>(discretization.triangulation.n_active_cells()));
+          for (unsigned int i = 0; i < n; ++i)
+            if (!discretization.is_virtual(i) || field->at_virtual_points())
+              (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = field->value(data, i, 0);
+          cell_fields.emplace_back(name, cell_storage.back().get());
         }
-      vector_fields.emplace_back(name, &out);
-    };
-    // FE nodes: the force density and acceleration of the lumped system.
-    const auto node_acceleration = [&](unsigned int k) {
-      const unsigned int l = continuum->nodes[k].local;
-      return continuum->mass.local_element(l) > 0 ? continuum->F.local_element(l) / continuum->mass.local_element(l) : 0.0;
-    };
-    vector_field("Displacement", [&](unsigned int k) { return state.displacement.local_element(k); },
-                 [&](unsigned int k) { return continuum->U.local_element(continuum->nodes[k].local); });
-    vector_field("Velocity", [&](unsigned int k) { return state.velocity.local_element(k); },
-                 [&](unsigned int k) { return continuum->V.local_element(continuum->nodes[k].local); });
-    vector_field("Force density", [&](unsigned int k) { return state.force.local_element(k); },
-                 [&](unsigned int k) { return coupling->node_density[k] * node_acceleration(k); });
-    vector_field("Acceleration", [&](unsigned int k) { return state.force.local_element(k) / state.mass_density[k / dim]; },
-                 node_acceleration);
+      else
+        {
+          vector_storage.push_back(
+            has_continuum ? std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), relevant, comm) :
+                            std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), comm));
+          VectorType &out = *vector_storage.back();
+          for (unsigned int i = 0; i < n; ++i)
+            if (!discretization.is_virtual(i))
+              {
+                cloud.cell[i]->get_dof_indices(dofs);
+                for (unsigned int d = 0; d < dim; ++d)
+                  out(dofs[d]) = field->value(data, i, d);
+              }
+          if (has_continuum)
+            {
+              for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
+                out.local_element(continuum->nodes[k].local) = field->node_value(data, k);
+              continuum->hanging.distribute(out);
+              out.update_ghost_values();
+            }
+          vector_fields.emplace_back(name, &out);
+        }
 
     output.write_fields(discretization.dof_handler, cell_fields, vector_fields, step, time, comm);
     if (globals)

@@ -129,10 +129,7 @@ namespace perideal
     prm.leave_subsection();
 
     prm.enter_subsection("Output");
-    std::vector<std::string> model_fields;
-    for (const auto &f : model_output_fields())
-      model_fields.push_back(f.first);
-    OutputWriter::declare_parameters(prm, model_fields);
+    OutputWriter::declare_parameters(prm, model_output_fields());
     prm.leave_subsection();
   }
 

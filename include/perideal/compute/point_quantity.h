@@ -9,6 +9,7 @@
 #include <perideal/base/registry.h>
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/model/state.h>
+#include <perideal/neighborhood/bonds.h>
 
 #include <vector>
 
@@ -17,14 +18,17 @@ namespace perideal
   class ForceModel;
   class ContinuumField;
 
-  /// What a quantity reads, at the time of the output step.
+  /// What a compute's quantity or an output field (output_field.h) reads,
+  /// at the time of the output step.
   struct ComputeData
   {
     const PointCloud          &cloud;
+    const Bonds               &bonds;
     const MechanicalState     &state;
     const ForceModel          &model;
     const ContinuumField      *continuum;    // nullptr without continuum blocks
     const std::vector<double> *node_density; // per FE node of continuum; with it
+    unsigned int               rank;         // this process's in the run's communicator
   };
 
   class PointQuantity

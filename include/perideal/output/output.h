@@ -23,16 +23,13 @@ namespace perideal
   class OutputWriter
   {
   public:
-    /// Declared inside subsection "Output"; @p model_fields: the output
-    /// names of the fields the registered models declare (model_output_fields()).
+    /// Declared inside subsection "Output"; @p model_fields: the fields the
+    /// registered models offer (model_output_fields()). Output/Variables'
+    /// names and documentation come from output_variables() (output_field.h).
     static void
-    declare_parameters(ParameterHandler &prm, const std::vector<std::string> &model_fields);
+    declare_parameters(ParameterHandler &prm, const std::vector<std::pair<std::string, std::string>> &model_fields);
     void
     parse_parameters(ParameterHandler &prm);
-
-    /// The output variables a user can ask for: the core's and the models'.
-    static std::vector<std::string>
-    variable_names(const std::vector<std::string> &model_fields);
 
     bool
     wants(const std::string &variable) const

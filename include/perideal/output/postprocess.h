@@ -7,6 +7,7 @@
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/neighborhood/bonds.h>
 #include <perideal/output/output.h>
+#include <perideal/output/output_field.h>
 #include <perideal/model/state.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -54,6 +55,10 @@ namespace perideal
     OutputWriter &output;
 
   private:
+    /// What computes and output fields read, now.
+    ComputeData
+    compute_data() const;
+
     Deck                       &deck;
     Discretization             &discretization;
     ForceModel                 &model;
@@ -69,5 +74,6 @@ namespace perideal
     std::vector<RegionCompute> &computes;
     const PointCloud           &cloud;
     const Bonds                &bonds;
+    std::vector<OutputVariable> fields; // the ones Output/Variables asks for
   };
 } // namespace perideal

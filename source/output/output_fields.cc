@@ -1,0 +1,247 @@
+// The core's fields of the field files, registered as Registry<OutputField>
+// (output_field.h), and output_variables(), which adds the models' fields.
+// Their position() fixes their order in Output/Variables and in the files.
+#include <perideal/continuum/continuum_field.h>
+#include <perideal/model/force_model.h>
+#include <perideal/output/output_field.h>
+
+#include <algorithm>
+
+namespace perideal
+{
+  namespace
+  {
+    /// A vector: dim components per point, and a value per FE node.
+    class VectorField : public OutputField
+    {
+    public:
+      unsigned int
+      n_components() const override
+      {
+        return dim;
+      }
+    };
+
+    class ScalarField : public OutputField
+    {
+    public:
+      unsigned int
+      n_components() const override
+      {
+        return 1;
+      }
+    };
+
+    /// The FE nodes' acceleration of the lumped system.
+    double
+    node_acceleration(const ComputeData &data, const unsigned int k)
+    {
+      const unsigned int l = data.continuum->nodes[k].local;
+      return data.continuum->mass.local_element(l) > 0 ?
+               data.continuum->F.local_element(l) / data.continuum->mass.local_element(l) :
+               0.0;
+    }
+
+    class Displacement : public VectorField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 10;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      {
+        return data.state.displacement.local_element(dim * i + c);
+      }
+      double
+      node_value(const ComputeData &data, const unsigned int k) const override
+      {
+        return data.continuum->U.local_element(data.continuum->nodes[k].local);
+      }
+    };
+
+    class Velocity : public VectorField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 20;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      {
+        return data.state.velocity.local_element(dim * i + c);
+      }
+      double
+      node_value(const ComputeData &data, const unsigned int k) const override
+      {
+        return data.continuum->V.local_element(data.continuum->nodes[k].local);
+      }
+    };
+
+    class ForceDensity : public VectorField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 30;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      {
+        return data.state.force.local_element(dim * i + c);
+      }
+      double
+      node_value(const ComputeData &data, const unsigned int k) const override
+      {
+        return (*data.node_density)[k] * node_acceleration(data, k);
+      }
+    };
+
+    class Acceleration : public VectorField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 40;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      {
+        return data.state.force.local_element(dim * i + c) / data.state.mass_density[i];
+      }
+      double
+      node_value(const ComputeData &data, const unsigned int k) const override
+      {
+        return node_acceleration(data, k);
+      }
+    };
+
+    class Damage : public ScalarField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 50;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int) const override
+      {
+        return data.model.point_damage(i);
+      }
+    };
+
+    class NumberOfNeighbors : public ScalarField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 70;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int) const override
+      {
+        return double(data.bonds.offsets[i + 1] - data.bonds.offsets[i]);
+      }
+    };
+
+    class Block : public ScalarField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 80;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int) const override
+      {
+        return double(data.cloud.block[i]);
+      }
+      bool
+      at_virtual_points() const override
+      {
+        return true;
+      }
+    };
+
+    class Rank : public ScalarField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 90;
+      }
+      double
+      value(const ComputeData &data, const unsigned int, const unsigned int) const override
+      {
+        return data.rank;
+      }
+    };
+
+    /// A model's point field (not registered: the models declare theirs);
+    /// 0 in the blocks whose models do not have it.
+    class ModelField : public ScalarField
+    {
+    public:
+      explicit ModelField(const std::string &field)
+        : field(field)
+      {}
+      int
+      position() const override
+      {
+        return model_fields_position;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int) const override
+      {
+        const VectorType *values = data.model.field(field);
+        return values ? values->local_element(i) : 0.0;
+      }
+
+    private:
+      std::string field;
+    };
+
+    PERIDEAL_REGISTER(OutputField, Displacement, "Displacement",
+                      "u of a point; on continuum cells the FE nodes' displacement.")
+    PERIDEAL_REGISTER(OutputField, Velocity, "Velocity", "v of a point; on continuum cells the FE nodes' velocity.")
+    PERIDEAL_REGISTER(OutputField, ForceDensity, "Force density",
+                      "f of a point, internal plus body force per unit volume; on continuum cells the FE "
+                      "nodes' lumped force times the density over their mass.")
+    PERIDEAL_REGISTER(OutputField, Acceleration, "Acceleration",
+                      "f / rho of a point; on continuum cells the FE nodes' lumped force over their mass.")
+    PERIDEAL_REGISTER(OutputField, Damage, "Damage",
+                      "point damage, 1 - sum_j (1 - d_ij) V_j / sum_j V_j over a point's family.")
+    PERIDEAL_REGISTER(OutputField, NumberOfNeighbors, "Number of neighbors",
+                      "the bonds of a point's family, broken ones included.")
+    PERIDEAL_REGISTER(OutputField, Block, "Block",
+                      "the index of a point's block in Blocks/Names (on continuum cells: of their block).")
+    PERIDEAL_REGISTER(OutputField, Rank, "Rank", "the MPI rank that owns a point.")
+  } // namespace
+
+  std::vector<OutputVariable>
+  output_variables(const std::vector<std::pair<std::string, std::string>> &model_fields)
+  {
+    std::vector<OutputVariable> variables;
+    for (const auto &[name, entry] : Registry<OutputField>::instance().all())
+      variables.push_back({name, entry.documentation, entry.create()});
+    for (const auto &[output_name, field] : model_fields)
+      variables.push_back({output_name,
+                           "fields of the materials and damage models that declare them (0 in the blocks "
+                           "of other models).",
+                           std::make_unique<ModelField>(field)});
+    std::stable_sort(variables.begin(), variables.end(), [](const OutputVariable &a, const OutputVariable &b) {
+      return a.field->position() < b.field->position();
+    });
+    return variables;
+  }
+} // namespace perideal
