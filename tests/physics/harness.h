@@ -150,6 +150,8 @@ namespace pdtest
           materials.back()->set_block(b, horizons[b]);
           for (const auto &f : materials.back()->point_fields())
             fields->declare(f);
+          for (const auto &f : materials.back()->bond_fields())
+            fields->declare(f, bonds.n_bonds());
           materials.back()->initialize(state(false), block_points[b]);
         }
       material = materials[0].get();
