@@ -305,14 +305,14 @@ namespace perideal
   {
     if (broken.empty())
       return 0.0;
-    const bool d = continuous[cloud.block[i]];
+    const bool by_d = continuous[cloud.block[i]]; // else by the broken flags
     double     all = 0, intact = 0;
     for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
       {
         // Over the point's own family (Bonds::family).
         const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b) * bonds.own(b);
         all += V;
-        intact += (d ? 1 - damage[b] : 1 - broken[b]) * V;
+        intact += (by_d ? 1 - damage[b] : 1 - broken[b]) * V;
       }
     return 1 - intact / all;
   }
