@@ -63,11 +63,11 @@ namespace perideal
     }
 
     std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const override
+    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
     {
       std::size_t n = 0;
       with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-        n = update<decltype(periodic)::value>(state, points, broken);
+        n = update<decltype(periodic)::value>(state, points, damage.broken);
       });
       return n;
     }

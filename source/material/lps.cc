@@ -6,6 +6,11 @@
 //                    e^d     = e - theta_i |xi| / 3
 //   force density    f_i     = sum_j (t_ij + t_ji) (1-d) V_j M
 //   energy density   W_i     = K theta_i^2 / 2 + (15 G / 2 m_i) sum_j omega (e^d)^2 (1-d) V_j
+// with d the bond damage, 0 or 1 (binary damage models) or in [0, 1]
+// (continuous ones: the dilatation, the force, the energy and the tangent
+// weigh each bond by 1 - d, as Peridigm's elastic.cxx; its force scales the
+// deviatoric term by (1-d)^2, the same for binary d, where this one keeps
+// (1-d) as the energy has it). The tangent is the secant at fixed d.
 // Written as t_ij + t_ji = omega [ |xi| (alpha_i + alpha_j) + (beta_i + beta_j) e ]
 // with alpha = theta (3K - 5G)/m (ghosted each step) and beta = 15G/m (ghosted
 // once), the neighbor's half uses the neighbor's own moduli and weighted volume.
@@ -202,6 +207,8 @@ namespace perideal
           constexpr bool W = decltype(weighted)::value, P = decltype(periodic)::value;
           if (state.breaking)
             dilatation<BondDamage::breaking, W, P>(state, points);
+          else if (state.damage)
+            dilatation<BondDamage::continuous, W, P>(state, points);
           else if (state.broken)
             dilatation<BondDamage::read, W, P>(state, points);
           else
@@ -212,6 +219,12 @@ namespace perideal
 
     bool
     fuses_stretch_criterion() const override
+    {
+      return true;
+    }
+
+    bool
+    supports_continuous_damage() const override
     {
       return true;
     }
@@ -239,19 +252,12 @@ namespace perideal
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
       // Compile-time variants keep the bond loop free of branches.
-      with_flag(state.broken != nullptr, [&](auto damage) {
-        with_flag(state.energy != nullptr, [&](auto energy) {
-          with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-            constexpr bool D = decltype(damage)::value, E = decltype(energy)::value, P = decltype(periodic)::value;
-            if (halves)
-              force<D, E, true, P, true>(state, points);
-            else if (constant_influence)
-              force<D, E, false, P>(state, points);
-            else
-              force<D, E, true, P>(state, points);
-          });
-        });
-      });
+      if (state.damage)
+        force_variants<BondDamage::continuous>(state, points);
+      else if (state.broken)
+        force_variants<BondDamage::read>(state, points);
+      else
+        force_variants<BondDamage::none>(state, points);
     }
 
     double
@@ -340,11 +346,10 @@ namespace perideal
               cols[k + 1]          = j;
               double w             = constant_influence ? omega0 : omega[b];
               double w2            = halves ? omega_other[b] : 0.0;
-              if (state.broken)
-                {
-                  w *= 1.0 - state.broken[b];
-                  w2 *= 1.0 - state.broken[b];
-                }
+              // Continuous damage: the secant stiffness at fixed d.
+              const double intact = state.damage ? 1.0 - state.damage[b] : state.broken ? 1.0 - state.broken[b] : 1.0;
+              w *= intact;
+              w2 *= intact;
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
               const double h     = halves ? w * (r0 * alpha[i] + beta[i] * (r - r0)) + w2 * (r0 * alpha[j] + beta[j] * (r - r0)) :
@@ -426,6 +431,7 @@ namespace perideal
       std::uint8_t       *broken   = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
       const std::uint8_t *damage   = mode == BondDamage::breaking ? broken : state.broken;
       const double        limit    = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
+      const double       *d        = state.damage; // continuous only
       const double       *w_bond   = omega.data();
       const double       *m        = state.fields.get("weighted_volume").begin();
       const double       *gamma    = state.fields.get("lps_gamma").begin();
@@ -450,7 +456,9 @@ namespace perideal
               const double r0 = std::sqrt(r0sq);
               const double r  = std::sqrt(rsq);
               double       w  = weighted ? w_bond[b] : omega0;
-              if (mode != BondDamage::none)
+              if (mode == BondDamage::continuous)
+                w *= 1.0 - d[b];
+              else if (mode != BondDamage::none)
                 w *= 1.0 - damage[b];
               sum += w * r0 * (r - r0) * V[j];
             }
@@ -461,7 +469,25 @@ namespace perideal
         state.breaking->newly_broken += newly_broken;
     }
 
-    template <bool damage, bool energy, bool weighted, bool periodic, bool two_halves = false>
+    template <BondDamage mode>
+    void
+    force_variants(const ModelState &state, const std::vector<unsigned int> &points) const
+    {
+      with_flag(state.energy != nullptr, [&](auto energy) {
+        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+          constexpr bool E = decltype(energy)::value, P = decltype(periodic)::value;
+          if (halves)
+            force<mode, E, true, P, true>(state, points);
+          else if (constant_influence)
+            force<mode, E, false, P>(state, points);
+          else
+            force<mode, E, true, P>(state, points);
+        });
+      });
+    }
+
+    /// mode: none, read (state.broken) or continuous (state.damage).
+    template <BondDamage mode, bool energy, bool weighted, bool periodic, bool two_halves = false>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const
     {
@@ -472,6 +498,7 @@ namespace perideal
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
       const std::uint8_t *broken   = state.broken;
+      const double       *d        = state.damage; // continuous only
       const double       *w_bond   = omega.data();
       const double       *w_other  = omega_other.data();
       const double       *alpha    = state.fields.get("lps_alpha").begin();
@@ -498,10 +525,11 @@ namespace perideal
               const double       e  = r - r0;
               double             w  = weighted ? w_bond[b] : omega0;
               double             w2 = two_halves ? w_other[b] : 0.0;
-              if (damage)
+              if (mode != BondDamage::none)
                 {
-                  w *= 1.0 - broken[b];
-                  w2 *= 1.0 - broken[b];
+                  const double intact = mode == BondDamage::continuous ? 1.0 - d[b] : 1.0 - broken[b];
+                  w *= intact;
+                  w2 *= intact;
                 }
               const double t = two_halves ? w * (r0 * ai + bi * e) + w2 * (r0 * alpha[j] + beta[j] * e) :
                                             w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e);

@@ -1,7 +1,9 @@
 // Prototype microelastic brittle material (bond based; Peridigm's "Elastic
 // Bond Based"). Pairwise force density on point i from bond i-j:
 //   f = c s (1 - d) V_j M,   s = (|y_j - y_i| - |xi|) / |xi|,
-//   c = 18 K / (pi delta^4),  M = (y_j - y_i) / |y_j - y_i|.
+//   c = 18 K / (pi delta^4),  M = (y_j - y_i) / |y_j - y_i|,
+// d the bond damage: 0 or 1 (binary damage models), or in [0, 1] (continuous
+// ones; the energy and the tangent scale by 1 - d too: the secant at fixed d).
 // Poisson's ratio is 1/4 by construction, so G = 3K/5.
 // Across blocks with different micromoduli the bond uses (c_i + c_j)/2, so
 // action equals reaction. Across different horizons a bond may be in one
@@ -109,6 +111,8 @@ namespace perideal
       // Compile-time variants keep the bond loop free of branches.
       if (state.breaking)
         dispatch<BondDamage::breaking>(uniform, state, points, c_field);
+      else if (state.damage)
+        dispatch<BondDamage::continuous>(uniform, state, points, c_field);
       else if (state.broken)
         dispatch<BondDamage::read>(uniform, state, points, c_field);
       else
@@ -117,6 +121,12 @@ namespace perideal
 
     bool
     fuses_stretch_criterion() const override
+    {
+      return true;
+    }
+
+    bool
+    supports_continuous_damage() const override
     {
       return true;
     }
@@ -179,13 +189,15 @@ namespace perideal
               const std::size_t  b = first + k;
               const unsigned int j = state.bonds.neighbor[b];
               cols[k + 1]          = j;
-              if (state.broken && state.broken[b])
+              // Continuous damage: the secant stiffness (1 - d) at fixed d.
+              const double intact = state.damage ? 1 - state.damage[b] : state.broken ? 1 - state.broken[b] : 1;
+              if (intact == 0)
                 continue;
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
               const double s     = (r - r0) / r0;
-              const double cv = bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) * V[j] *
-                                state.bonds.fraction(b) * V[i];
+              const double cv = intact * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) *
+                                V[j] * state.bonds.fraction(b) * V[i];
               for (unsigned int p = 0; p < 3; ++p)
                 for (unsigned int q = 0; q < 3; ++q)
                   {
@@ -285,6 +297,7 @@ namespace perideal
       std::uint8_t       *broken = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
       const std::uint8_t *damage = mode == BondDamage::breaking ? broken : state.broken;
       const double        limit  = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
+      const double       *d      = state.damage; // continuous only
       const double       *c      = c_field.begin();
       const double        c_own  = micromodulus();
       const float        *beta   = state.bonds.volume_fraction.data();
@@ -314,7 +327,9 @@ namespace perideal
                                     halves    ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
                                                     (family[b] & Bonds::other_half ? c[j] : 0.0)) :
                                                 0.5 * (c[i] + c[j]);
-              const double intact = mode == BondDamage::none ? 1.0 : 1.0 - damage[b];
+              const double intact = mode == BondDamage::none       ? 1.0 :
+                                    mode == BondDamage::continuous ? 1.0 - d[b] :
+                                                                     1.0 - damage[b];
               const double Vj     = partial ? beta[b] * V[j] : V[j];
               const double k      = intact * cij * s * Vj / r;
               fx += k * dx;

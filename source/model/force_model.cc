@@ -83,10 +83,52 @@ namespace perideal
     }
 
     bool any_damage = false;
-    for (const auto &b : blocks)
-      any_damage |= b.damage != nullptr;
+    continuous.assign(blocks.size(), false);
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      if (blocks[k].damage)
+        {
+          any_damage    = true;
+          continuous[k] = blocks[k].damage->continuous();
+          AssertThrow(!continuous[k] || blocks[k].material->supports_continuous_damage(),
+                      ExcMessage("Blocks/" + blocks[k].name + ": damage model '" + blocks[k].damage_name +
+                                 "' sets a continuous bond damage, which material '" + blocks[k].material_name +
+                                 "' does not read (it supports binary damage only, e.g. Critical stretch)"));
+        }
     if (any_damage)
       broken.assign(bonds.n_bonds(), 0);
+    // Both halves of a bond take the same continuous d only if both owners
+    // apply the same law: a bond from a block with a continuous model must
+    // end in a block with the same model.
+    if (std::find(continuous.begin(), continuous.end(), true) != continuous.end())
+      {
+        std::pair<unsigned int, unsigned int> pair{0, 0};
+        unsigned int                          mixed = 0;
+        for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+            {
+              const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
+              if ((continuous[bi] || continuous[bj]) && blocks[bi].damage_name != blocks[bj].damage_name)
+                mixed = 1, pair = {std::min(bi, bj), std::max(bi, bj)};
+            }
+        // The same pair on every rank that names one: the smallest.
+        const unsigned int code = Utilities::MPI::min(mixed ? pair.first * blocks.size() + pair.second :
+                                                              std::numeric_limits<unsigned int>::max(),
+                                                      comm);
+        if (code != std::numeric_limits<unsigned int>::max())
+          {
+            const Block &a = blocks[code / blocks.size()], &c = blocks[code % blocks.size()];
+            const auto   model = [](const Block &x) {
+              return x.damage_name.empty() ? std::string("no damage model") : "damage model '" + x.damage_name + "'";
+            };
+            AssertThrow(false,
+                        ExcMessage("blocks '" + a.name + "' (" + model(a) + ") and '" + c.name + "' (" + model(c) +
+                                   ") are within a horizon of each other, and one of them has a continuous "
+                                   "damage model: the two halves of a bond between them would follow "
+                                   "different laws. Give both blocks the same damage model, or separate "
+                                   "them by more than a horizon"));
+          }
+        damage.assign(bonds.n_bonds(), 0.0);
+      }
 
     fields = std::make_unique<FieldStore>(cloud);
     mechanical.displacement.reinit(cloud.vector_partitioner);
@@ -155,8 +197,8 @@ namespace perideal
                            mechanical.force.begin(),
                            nullptr,
                            *fields};
-    for (const auto &block : blocks)
-      if (!block.points.empty() && !block.material->add_tangent(state, block.points, rows))
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      if (!blocks[k].points.empty() && !blocks[k].material->add_tangent(block_state(state, k), blocks[k].points, rows))
         return false;
     return true;
   }
@@ -178,8 +220,8 @@ namespace perideal
     // A block whose material applies its critical stretch in its own first
     // bond pass (fused_breaking) gets it there; other damage models run their
     // own pass first.
-    const auto block_state = [&](const unsigned int k) {
-      ModelState s = state;
+    const auto fused_state = [&](const unsigned int k) {
+      ModelState s = block_state(state, k);
       s.breaking   = breaking_allowed && fused_breaking[k].squared_limit > 0 ? &fused_breaking[k] : nullptr;
       return s;
     };
@@ -188,13 +230,12 @@ namespace perideal
         TimerOutput::Scope t(timer, "damage");
         for (unsigned int k = 0; k < blocks.size(); ++k)
           if (fused_breaking[k].squared_limit == 0)
-            broken_bond_count +=
-              damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, broken.data());
+            damage_updates += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, arrays());
       }
     {
       TimerOutput::Scope t(timer, "force");
       for (unsigned int k = 0; k < blocks.size(); ++k)
-        blocks[k].material->compute_stage(block_state(k), blocks[k].points);
+        blocks[k].material->compute_stage(fused_state(k), blocks[k].points);
     }
     if (has_stage_fields)
       {
@@ -204,11 +245,11 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "force");
       for (unsigned int k = 0; k < blocks.size(); ++k)
-        blocks[k].material->compute_force(block_state(k), blocks[k].points);
+        blocks[k].material->compute_force(fused_state(k), blocks[k].points);
     }
     for (auto &b : fused_breaking)
       {
-        broken_bond_count += b.newly_broken;
+        damage_updates += b.newly_broken;
         b.newly_broken = 0;
       }
     if (!body_force->empty())
@@ -264,13 +305,14 @@ namespace perideal
   {
     if (broken.empty())
       return 0.0;
-    double all = 0, intact = 0;
+    const bool by_d = continuous[cloud.block[i]]; // else by the broken flags
+    double     all = 0, intact = 0;
     for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
       {
         // Over the point's own family (Bonds::family).
         const double V = cloud.volume[bonds.neighbor[b]] * bonds.fraction(b) * bonds.own(b);
         all += V;
-        intact += broken[b] ? 0 : V;
+        intact += (by_d ? 1 - damage[b] : 1 - broken[b]) * V;
       }
     return 1 - intact / all;
   }
@@ -320,7 +362,7 @@ namespace perideal
   }
 
   double
-  ForceModel::released_energy(std::vector<std::uint8_t> &mask_before)
+  ForceModel::released_energy(DamageSnapshot &before)
   {
     const auto strain_energy = [&]() {
       double e = 0;
@@ -330,13 +372,25 @@ namespace perideal
     };
     const bool allowed = breaking_allowed;
     breaking_allowed   = false;
-    broken.swap(mask_before);
+    const auto swap = [&]() {
+      broken.swap(before.broken);
+      damage.swap(before.damage);
+    };
+    swap();
     compute_forces(true);
-    const double before = strain_energy();
-    broken.swap(mask_before);
+    const double energy_before = strain_energy();
+    swap();
     compute_forces(true);
     breaking_allowed = allowed;
-    return Utilities::MPI::sum(before - strain_energy(), comm);
+    return Utilities::MPI::sum(energy_before - strain_energy(), comm);
+  }
+
+  ModelState
+  ForceModel::block_state(const ModelState &state, const unsigned int k) const
+  {
+    ModelState s = state;
+    s.damage     = continuous[k] ? damage.data() : nullptr;
+    return s;
   }
 
   std::size_t
@@ -347,8 +401,8 @@ namespace perideal
     ModelState state{cloud, bonds, broken.data(), mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
     std::size_t newly = 0;
     for (unsigned int k = 0; k < blocks.size(); ++k)
-      newly += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, broken.data());
-    broken_bond_count += newly;
+      newly += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, arrays());
+    damage_updates += newly;
     return Utilities::MPI::sum(newly, comm);
   }
 } // namespace perideal

@@ -224,6 +224,7 @@ namespace perideal
     // What this run holds, by part (all ranks).
     const double bond_bytes = bonds.neighbor.capacity() * sizeof(unsigned int) +
                               bonds.offsets.capacity() * sizeof(std::size_t) + model.broken.capacity() +
+                              model.damage.capacity() * sizeof(double) +
                               bonds.volume_fraction.capacity() * sizeof(float) + bonds.family.capacity();
     const double point_bytes =
       cloud.X.capacity() * sizeof(double) + cloud.volume.capacity() * sizeof(double) +
@@ -336,7 +337,9 @@ namespace perideal
     const bool dissipation = deck.solver.track_dissipation && !model.broken.empty();
     if (dissipation)
       pcout << "  dissipated energy:      " << sci(record.dissipated_energy, 6)
-            << " (released by broken bonds: their strain energy where they broke)\n";
+            << (model.continuous_damage() ?
+                  " (released by bond damage: each step's strain energy with the damage before it minus after)\n" :
+                  " (released by broken bonds: their strain energy where they broke)\n");
     if (e_ref > 0)
       pcout << "  energy balance error:   "
             << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy - record.initial_energy - record.external_work) /

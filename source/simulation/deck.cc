@@ -68,7 +68,8 @@ namespace perideal
         prm.declare_entry("Material", "", Patterns::Anything(), "Name of a material of Materials/Names.");
         prm.declare_entry("Damage model", "", Patterns::Anything(), "Name of a damage model of Damage models/Names; empty: no damage. A bond "
                           "between two blocks breaks at the smaller critical stretch of the two (a block "
-                          "without one does not protect its bonds to a block with one).");
+                          "without one does not protect its bonds to a block with one). A block with a "
+                          "continuous damage model (Linear softening) bonds only to blocks with the same one.");
         prm.declare_entry("Material ids", "0", Patterns::List(Patterns::Integer(0)), "The cells of the mesh with these material ids (Gmsh volume physical groups) form the block.");
         prm.declare_entry("Region", "", Patterns::Anything(), "If set, the cells whose centroid lies in this region form the block instead.");
         prm.declare_entry("Horizon", "0", Patterns::Double(0), "The block's horizon; 0: Discretization/Horizon.");

@@ -316,15 +316,16 @@ namespace perideal
         access.record.last_newton.residual = solve.residual;
         if (access.model.broken.empty())
           return;
-        std::vector<std::uint8_t> broken_before;
+        ForceModel::DamageSnapshot before;
         if (access.deck.solver.track_dissipation)
-          broken_before = access.model.broken;
+          access.model.save_damage(before);
         const std::size_t newly = access.model.break_bonds();
         if (newly == 0)
           return;
         if (access.deck.solver.track_dissipation)
-          access.record.dissipated_energy += access.model.released_energy(broken_before);
-        pcout << "  " << newly / 2 << " bonds broke: solving the step again" << std::endl;
+          access.record.dissipated_energy += access.model.released_energy(before);
+        pcout << "  " << newly / 2 << (access.model.continuous_damage() ? " bonds took more damage" : " bonds broke")
+              << ": solving the step again" << std::endl;
         if (access.record.last_damage_solves == implicit.max_damage_solves)
           {
             access.record.warnings.push_back("step " + std::to_string(step) + ": bonds still broke after " +

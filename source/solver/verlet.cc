@@ -152,8 +152,8 @@ namespace perideal
     double                                last_percent = 0;
 
     // What the steps keep, per DoF (MechanicalState's numbering).
-    std::vector<double>       u_previous, v_previous, load_previous;
-    std::vector<std::uint8_t> broken_before; // the bonds' state before a step's breaks
+    std::vector<double>        u_previous, v_previous, load_previous;
+    ForceModel::DamageSnapshot damage_before; // the bonds' damage before a step's damage pass
   };
 
   void
@@ -278,8 +278,8 @@ namespace perideal
     }
     const bool output_step = post.output.is_output_step(step, steps_now);
     if (solver.track_dissipation && !model.broken.empty())
-      broken_before = model.broken;
-    const std::size_t broken_so_far = model.broken_bond_count;
+      model.save_damage(damage_before);
+    const std::size_t damage_so_far = model.damage_updates;
     model.compute_forces(output_step);
 
     double ke = 0, work = 0;
@@ -318,7 +318,7 @@ namespace perideal
           conditions.bad_condition = conditions.conditions.size(); // reported below by a collective search
     // The last entry: ranks that have received SIGTERM or SIGINT (the step
     // is finished, written if an output step, then the run stops).
-    double sums[5] = {ke, work, double(conditions.bad_condition), double(model.broken_bond_count - broken_so_far),
+    double sums[5] = {ke, work, double(conditions.bad_condition), double(model.damage_updates - damage_so_far),
                       local_interrupt_signal() != 0 ? 1.0 : 0.0};
     {
       TimerOutput::Scope t(timer, "global sums");
@@ -330,7 +330,7 @@ namespace perideal
       {
         // Leaves the same forces (same state and bonds) for the next kick.
         TimerOutput::Scope t(timer, "dissipation");
-        record.dissipated_energy += model.released_energy(broken_before);
+        record.dissipated_energy += model.released_energy(damage_before);
       }
     // The step's one evaluation is the accepted one.
     model.commit_step();

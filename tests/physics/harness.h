@@ -169,13 +169,15 @@ namespace pdtest
     perideal::ModelState
     state(const bool with_energy)
     {
-      return perideal::ModelState{cloud,
-                                  bonds,
-                                  nullptr,
-                                  u.begin(),
-                                  force.begin(),
-                                  with_energy ? energy.data() : nullptr,
-                                  *fields};
+      perideal::ModelState s{cloud,
+                             bonds,
+                             nullptr,
+                             u.begin(),
+                             force.begin(),
+                             with_energy ? energy.data() : nullptr,
+                             *fields};
+      s.damage = damage.empty() ? nullptr : damage.data();
+      return s;
     }
 
     /// Sets u on the owned points from @p g(reference position), then the ghosts.
@@ -285,6 +287,7 @@ namespace pdtest
     std::vector<std::vector<unsigned int>>            block_points;
     perideal::VectorType                              u, force;
     std::vector<double>                               energy;
+    std::vector<double>                               damage; // continuous bond damage, or empty: none
     std::vector<unsigned int>                         points;
   };
 

@@ -7,7 +7,11 @@
 //   |z.Kx - x.Kz| / (|z| |Kx|) < 1e-12 for two random x, z (K is symmetric:
 //       both models derive from a strain energy)
 // The Frobenius norm and the quadratic forms printed compare 1 and 2 ranks
-// (stored output, numdiff).
+// (stored output, numdiff). With the argument "damaged" the same cases run
+// with a continuous bond damage d in [0, 1) per bond (a function of both
+// points' hashes: the same for both halves and on any number of ranks): the
+// tangent at fixed d, each bond scaled by 1 - d, is then the derivative of
+// the force, and still symmetric.
 
 #include <perideal/solver/tangent.h>
 
@@ -29,10 +33,18 @@ namespace
   }
 
   void
-  check_case(const MPI_Comm comm, pdtest::Report &report, const std::string &name, const pdtest::MaterialSpec &spec)
+  check_case(const MPI_Comm comm, pdtest::Report &report, const std::string &name, const pdtest::MaterialSpec &spec,
+             const bool damaged)
   {
     const double   spacing = 0.25;
     pdtest::Harness h(comm, Point<3>(0, 0, 0), Point<3>(1.5, 1, 1), {{6, 4, 4}}, 2.015 * spacing, spec);
+    if (damaged)
+      {
+        h.damage.resize(h.bonds.n_bonds());
+        for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
+          for (std::size_t b = h.bonds.offsets[i]; b < h.bonds.offsets[i + 1]; ++b)
+            h.damage[b] = 0.5 * (1 + pdtest::noise(h.cloud.hash(i) ^ h.cloud.hash(h.bonds.neighbor[b]), 7));
+      }
     h.set_random_displacement(0.05 * spacing);
     h.evaluate(false);
 
@@ -76,12 +88,16 @@ namespace
 int
 main(int argc, char *argv[])
 {
-  return pdtest::run_checks(argc, argv, [](const MPI_Comm comm, pdtest::Report &report) {
-    check_case(comm, report, "PMB", {"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}}});
+  const bool damaged = argc > 1 && std::string(argv[1]) == "damaged";
+  return pdtest::run_checks(argc, argv, [damaged](const MPI_Comm comm, pdtest::Report &report) {
+    const std::string d = damaged ? ", damaged" : "";
+    check_case(comm, report, "PMB" + d, {"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}}}, damaged);
     // G = 0.6 K (nu = 1/4) would switch the dilatation coupling off (3K = 5G).
-    check_case(comm, report, "LPS nu = 0.34", {"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.35"}}});
-    check_case(comm, report, "LPS omega = exp(-r*r), nu = 0.4",
+    check_case(comm, report, "LPS nu = 0.34" + d,
+               {"LPS", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.35"}}}, damaged);
+    check_case(comm, report, "LPS omega = exp(-r*r), nu = 0.4" + d,
                {"LPS",
-                {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.2143"}, {"Influence function", "exp(-r*r)"}}});
+                {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.2143"}, {"Influence function", "exp(-r*r)"}}},
+               damaged);
   });
 }

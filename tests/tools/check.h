@@ -1,7 +1,7 @@
 #pragma once
 // The checker library of the test suite: what perideal_check (the checks of
 // a pd_app run's globals CSV and standard output: check_globals.cc,
-// check_quasistatic.cc, check_stability.cc) and the C++ test programs
+// check_quasistatic.cc, check_stability.cc, check_damage.cc) and the C++ test programs
 // (tests/physics/harness.h) share: the "NAME = VALUE  (BOUND)  PASS|FAIL"
 // line, a failure count and the verdict, command-line values, the globals
 // CSV as rows of named columns. Serial; no MPI.
@@ -111,3 +111,5 @@ int
 check_quasistatic(int argc, char *argv[]);
 int
 check_stability(int argc, char *argv[]);
+int
+check_damage(int argc, char *argv[]);

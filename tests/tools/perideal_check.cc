@@ -1,7 +1,8 @@
 // perideal_check MODE ARGUMENTS...: the checks of a pd_app run's globals CSV
 // and output, run by the test runner (tests/tools/run.sh check) after pd_app.
 // The modes and their arguments are described in check_globals.cc (globals),
-// check_quasistatic.cc (quasistatic) and check_stability.cc (stability).
+// check_quasistatic.cc (quasistatic), check_stability.cc (stability) and
+// check_damage.cc (softening).
 // Exit code: 0 every check passed, 1 a check failed, 2 bad arguments or input.
 
 #include "check.h"
@@ -20,6 +21,8 @@ main(int argc, char *argv[])
     return check_quasistatic(argc - 1, argv + 1);
   if (mode == "stability")
     return check_stability(argc - 1, argv + 1);
-  std::cout << "usage: perideal_check globals|quasistatic|stability ARGUMENTS..." << std::endl;
+  if (mode == "softening")
+    return check_damage(argc - 1, argv + 1);
+  std::cout << "usage: perideal_check globals|quasistatic|stability|softening ARGUMENTS..." << std::endl;
   return 2;
 }

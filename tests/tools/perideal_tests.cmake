@@ -15,7 +15,8 @@ add_executable(perideal_check
   ${CMAKE_CURRENT_LIST_DIR}/perideal_check.cc
   ${CMAKE_CURRENT_LIST_DIR}/check_globals.cc
   ${CMAKE_CURRENT_LIST_DIR}/check_quasistatic.cc
-  ${CMAKE_CURRENT_LIST_DIR}/check_stability.cc)
+  ${CMAKE_CURRENT_LIST_DIR}/check_stability.cc
+  ${CMAKE_CURRENT_LIST_DIR}/check_damage.cc)
 
 # perideal_add_test(TEST NP TIMEOUT COMMAND...): one ctest case on NP ranks
 # with the suite's environment, labelled ${perideal_test_group}.

@@ -1,13 +1,20 @@
 #pragma once
-// The DamageModel interface: decides which bonds of a block's points break.
-// Bond damage is 0 or 1 and irreversible; point damage, computed by the core
-// for output, is 1 - sum_j (1-d_ij) V_j / sum_j V_j.
+// The DamageModel interface: decides the bond damage d in [0, 1] of a block's
+// points. Binary models (critical stretch) set d = 1 in the per-bond byte
+// array `broken`; continuous models (continuous() true) set d in the per-bond
+// double array the core allocates only for them, and mark broken = 1 where d
+// reaches 1. Damage is irreversible: d never decreases. Point damage,
+// computed by the core for output, is 1 - sum_j (1-d_ij) V_j / sum_j V_j.
 //
 // Bond i->j and j->i are separate entries, each decided by its owner: a model
-// must decide from data both owners have (positions of both points), so the
-// two halves agree. Critical stretches are applied by the core with one rule
-// across blocks (BondStretchLimits): a bond between blocks A and B breaks at
-// the smaller critical stretch of those of A and B that have one. A new model is one file in source/damage/ with
+// must decide from data both owners have (positions of both points, the
+// bond's own history), so the two halves agree. Critical stretches are
+// applied by the core with one rule across blocks (BondStretchLimits): a bond
+// between blocks A and B breaks at the smaller critical stretch of those of A
+// and B that have one. A bond between a block with a continuous model and
+// another block is allowed only if both blocks take the same damage model
+// (ForceModel::setup() refuses it otherwise), so each owner applies the same
+// law. A new model is one file in source/damage/ with
 // PERIDEAL_REGISTER(DamageModel, ClassName, "Name", "documentation").
 
 #include <perideal/base/input.h>
@@ -41,9 +48,29 @@ namespace perideal
       return {};
     }
 
-    /// Breaks bonds of @p points: sets broken[b] = 1. Returns how many broke.
+    /// True if the model sets a continuous bond damage
+    /// (BondDamageArrays::damage); the core then allocates it (8 bytes per
+    /// bond) and the block's material scales each bond by 1 - d
+    /// (Material::supports_continuous_damage()). False: binary, d in {0, 1}
+    /// in BondDamageArrays::broken, nothing more allocated.
+    virtual bool
+    continuous() const
+    {
+      return false;
+    }
+
+    /// Updates the damage of the bonds of @p points at the current state.
+    /// Binary: sets damage.broken[b] = 1 for bonds that break; returns how
+    /// many broke. Continuous: sets damage.damage[b] = max(its value, the
+    /// law's), so d never decreases, and damage.broken[b] = 1 where d
+    /// reaches 1; returns how many bonds' d rose. Like breaking, this runs
+    /// only on states the integrators keep (an explicit step's evaluation,
+    /// an implicit step's converged solve; ForceModel::breaking_allowed),
+    /// never inside a Newton iteration, so a law that follows the largest
+    /// stretch so far needs no history of its own; one that needs more
+    /// declares it in bond_fields().
     virtual std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const = 0;
+    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const = 0;
 
     /// s_c if the model breaks a bond exactly when its stretch exceeds s_c
     /// and decides nothing else; a material may then fuse the test into its
@@ -130,11 +157,11 @@ namespace perideal
               const unsigned int               k,
               const ModelState                &state,
               const std::vector<unsigned int> &points,
-              std::uint8_t                    *broken)
+              const BondDamageArrays          &damage)
   {
     if (model && model->critical_stretch() == 0)
-      return model->update(state, points, broken);
-    return limits.may_break(k) ? limits.update(state, points, broken) : 0;
+      return model->update(state, points, damage);
+    return limits.may_break(k) ? limits.update(state, points, damage.broken) : 0;
   }
 
   void

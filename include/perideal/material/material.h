@@ -129,12 +129,22 @@ namespace perideal
   }
 
   /// What a material's bond loop does with bond damage: nothing (no damage
-  /// model), read it, or also apply StretchBreaking first (fused breaking).
+  /// model), read the binary flags, also apply StretchBreaking first (fused
+  /// breaking), or read the continuous d (ModelState::damage). Compile-time
+  /// variants: each kernel is generated for the scenes that need it.
   enum class BondDamage
   {
     none,
     read,
-    breaking
+    breaking,
+    continuous
+  };
+
+  /// The per-bond damage a DamageModel updates.
+  struct BondDamageArrays
+  {
+    std::uint8_t *broken;           // 1 = broken for good (d = 1)
+    double       *damage = nullptr; // continuous models only: d, raised in place
   };
 
   /// What a material reads and writes in one evaluation.
@@ -148,6 +158,10 @@ namespace perideal
     double             *energy; // strain energy density per owned point, or nullptr
     FieldStore         &fields;
     StretchBreaking    *breaking = nullptr; // set only if the material fuses the check
+    // Continuous bond damage d in [0, 1] per bond, set only for a block whose
+    // damage model is continuous: the material scales bond b by 1 - damage[b]
+    // and ignores broken (d = 1 there).
+    const double *damage = nullptr;
   };
 
   class Material
@@ -209,6 +223,16 @@ namespace perideal
     /// critical-stretch model's own pass over the bonds of this block.
     virtual bool
     fuses_stretch_criterion() const
+    {
+      return false;
+    }
+
+    /// True if the material scales each bond's force, energy and tangent by
+    /// 1 - state.damage[b] when state.damage is set (BondDamage::continuous);
+    /// a block with a continuous damage model needs it (refused at set-up
+    /// otherwise).
+    virtual bool
+    supports_continuous_damage() const
     {
       return false;
     }

@@ -70,16 +70,36 @@ namespace perideal
     /// The largest speed of a point with mass and an intact bond. Collective.
     double
     fastest_bonded_speed() const;
-    /// The strain energy that bond breaking released at the current state:
-    /// with the bonds of @p mask_before (the broken flags before the breaks)
-    /// minus with those of now, summed over ranks. Leaves the forces and
-    /// energy densities of now. Collective.
+    /// The bond damage at one moment (released_energy()).
+    struct DamageSnapshot
+    {
+      std::vector<std::uint8_t> broken;
+      std::vector<double>       damage; // empty without a continuous damage model
+    };
+    /// Copies the bond damage of now into @p into (reusing its memory).
+    void
+    save_damage(DamageSnapshot &into) const
+    {
+      into.broken = broken;
+      into.damage = damage;
+    }
+    /// The strain energy that bond damage released at the current state:
+    /// with the damage of @p before minus with that of now, summed over
+    /// ranks (for continuous damage the energy released as d rose, to first
+    /// order in its rise). Leaves the forces and energy densities of now.
+    /// Collective.
     double
-    released_energy(std::vector<std::uint8_t> &mask_before);
+    released_energy(DamageSnapshot &before);
     /// Runs the damage models on the current state; returns the bonds
-    /// (directed) broken now, all ranks.
+    /// (directed, all ranks) broken now, or whose continuous damage rose.
     std::size_t
     break_bonds();
+    /// True if some block's damage model is continuous (damage is allocated).
+    bool
+    continuous_damage() const
+    {
+      return !damage.empty();
+    }
 
     /// The step is accepted: every model's history becomes the state the
     /// next step starts from (FieldStore::commit()). The integrators call
@@ -109,8 +129,13 @@ namespace perideal
 
     std::vector<Block>        &blocks;
     std::vector<std::uint8_t>  broken;            // per bond, only with a damage model
-    bool                       breaking_allowed = true; // false: bonds break only in break_bonds()
-    std::size_t                broken_bond_count = 0;   // directed entries, this rank
+    // Continuous d per bond, only with a continuous damage model
+    // (DamageModel::continuous()); d = 1 is also marked in broken.
+    std::vector<double>        damage;
+    bool                       breaking_allowed = true; // false: damage changes only in break_bonds()
+    // Bonds broken, or whose continuous d rose, so far (directed, this rank):
+    // a step that changes it changes the damage.
+    std::size_t                damage_updates = 0;
 
   private:
     Discretization          &discretization;
@@ -121,6 +146,17 @@ namespace perideal
     MPI_Comm                 comm;
     dealii::TimerOutput     &timer;
     std::unique_ptr<FieldStore> fields;
+    std::vector<bool>           continuous; // by block: its damage model is continuous
+    /// @p state for block @p k's material: with the continuous damage if its
+    /// damage model is continuous.
+    ModelState
+    block_state(const ModelState &state, const unsigned int k) const;
+    /// The bond damage for DamageModel::update().
+    BondDamageArrays
+    arrays()
+    {
+      return {broken.data(), damage.data()};
+    }
     bool                        has_stage_fields = false;
     // Per block: the critical stretch its material applies in its force loop
     // (squared_limit 0: not fused, damage_pass() runs its own pass).
