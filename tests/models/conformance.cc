@@ -72,9 +72,7 @@
 #include <perideal/solver/tangent.h>
 
 #include <deal.II/base/symmetric_tensor.h>
-#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
-#include <deal.II/physics/transformations.h>
 
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
@@ -203,35 +201,23 @@ namespace
   void
   check_rigid_motions(const MPI_Comm comm, Report &report, const MaterialSpec &spec)
   {
-    const Point<3>                    lower(0.2, -0.1, 0.3), upper(1.2, 0.7, 0.9);
-    const std::array<unsigned int, 3> cells{{8, 7, 5}}; // spacings 0.125, 0.114, 0.12
-    const double                      horizon = 3.015 * 0.125;
-    Harness                           h(comm, lower, upper, cells, horizon, spec);
-    const double                      k     = h.material->bulk_modulus();
-    const double                      f_ref = k * 1e-3 / horizon, W_ref = k * 1e-6;
+    const double horizon = rigid_box::horizon;
+    Harness      h(comm, rigid_box::lower, rigid_box::upper, rigid_box::cells, horizon, spec);
+    const double k     = h.material->bulk_modulus();
+    const double f_ref = k * 1e-3 / horizon, W_ref = k * 1e-6;
     report.line("  rigid motions: box of " + std::to_string(h.cloud.n_global()) + " points, " +
                 sci(Utilities::MPI::sum(double(h.bonds.n_bonds()), comm), 8) + " bonds");
 
-    Tensor<1, 3> c, axis, p;
-    c[0] = 0.3, c[1] = -0.7, c[2] = 1.1;
-    axis[0] = 1, axis[1] = -2, axis[2] = 3;
-    axis /= axis.norm();
+    const Tensor<1, 3> c = rigid_box::translation, axis = rigid_box::axis;
+    Tensor<1, 3>       p;
     p[0] = 0.9, p[1] = 0.5, p[2] = -0.2; // a point of the axis, outside the box
-    const auto rotation = [&](const double angle) {
-      return Physics::Transformations::Rotations::rotation_matrix_3d(axis, angle);
+    const Tensor<2, 3> I = unit_symmetric_tensor<3>();
+    const std::vector<RigidMotion> motions = {{"(a) translation by (0.3, -0.7, 1.1)", I, c},
+                                              {"(b) rotation 90 deg about an off-axis line", rotation(axis, M_PI / 2), {}},
+                                              {"(b) rotation 1e-3 rad about that line", rotation(axis, 1e-3), {}}};
+    const auto moved = [&](const RigidMotion &m, const Tensor<1, 3> &x) {
+      return Tensor<1, 3>(m.Q * (x - p) + p + m.c);
     };
-    struct Motion
-    {
-      std::string  name;
-      Tensor<2, 3> Q;
-      Tensor<1, 3> c;
-    };
-    const Tensor<2, 3>        I       = unit_symmetric_tensor<3>();
-    const std::vector<Motion> motions = {{"(a) translation by (0.3, -0.7, 1.1)", I, c},
-                                         {"(b) rotation 90 deg about an off-axis line", rotation(M_PI / 2), {}},
-                                         {"(b) rotation 1e-3 rad about that line", rotation(1e-3), {}}};
-    // y = Q (x - p) + p + c
-    const auto moved = [&](const Motion &m, const Tensor<1, 3> &x) { return Tensor<1, 3>(m.Q * (x - p) + p + m.c); };
     for (const auto &m : motions)
       {
         h.set_displacement([&](const Point<3> &x) { return Tensor<1, 3>(moved(m, x) - x); });
@@ -248,13 +234,7 @@ namespace
       }
 
     // (b) objectivity: a deformed state, then the same state moved rigidly.
-    const auto u0 = [](const Point<3> &x) {
-      Tensor<1, 3> d;
-      d[0] = 1e-3 * std::sin(7 * x[1]) + 2e-3 * x[0] * x[2];
-      d[1] = -1e-3 * std::cos(5 * x[0] + x[2]);
-      d[2] = 1.5e-3 * x[1] * x[1];
-      return d;
-    };
+    const auto u0 = non_affine_displacement;
     h.set_displacement(u0);
     h.evaluate(true);
     const unsigned int        n = h.cloud.n_owned();
@@ -263,7 +243,7 @@ namespace
     double                    f0_max = 0;
     for (unsigned int i = 0; i < n; ++i)
       f0[i] = h.force_of(i), f0_max = std::max(f0_max, f0[i].norm());
-    const Motion m{"", rotation(M_PI / 2), c};
+    const RigidMotion m{"", rotation(axis, M_PI / 2), c};
     h.set_displacement([&](const Point<3> &x) { return Tensor<1, 3>(moved(m, x + u0(x)) - x); });
     h.evaluate(true);
     double df = 0, dW = 0;
@@ -389,76 +369,11 @@ namespace
       return;
 
     // lambda_max of -rho^-1 dF/du by Lanczos in the mass inner product.
-    const auto mass_dot = [&](const std::vector<double> &a, const std::vector<double> &b) {
-      double s = 0;
-      for (unsigned int k = 0; k < 3 * n; ++k)
-        s += density * V[k / 3] * a[k] * b[k];
-      return Utilities::MPI::sum(s, comm);
-    };
-    std::vector<double> w(3 * n), plus(3 * n);
-    const double        eps   = 1e-6 * spacing;
-    const auto          apply = [&](const std::vector<double> &x, std::vector<double> &y) {
-      double x_max = 0;
-      for (const double e : x)
-        x_max = std::max(x_max, std::abs(e));
-      const double scale = eps / Utilities::MPI::max(x_max, comm);
-      for (const double sign : {1.0, -1.0})
-        {
-          for (unsigned int k = 0; k < 3 * n; ++k)
-            w[k] = sign * scale * x[k];
-          h.set_displacement(w);
-          h.evaluate(false);
-          for (unsigned int k = 0; k < 3 * n; ++k)
-            if (sign > 0)
-              plus[k] = h.force.local_element(k);
-            else
-              y[k] = -(plus[k] - h.force.local_element(k)) / (2 * scale * density);
-        }
-    };
-    std::vector<std::vector<double>> Q;
-    std::vector<double>              alpha, beta, v(3 * n), Av(3 * n);
+    std::vector<double> start(3 * n);
     for (unsigned int i = 0; i < n; ++i)
       for (unsigned int c = 0; c < 3; ++c)
-        v[3 * i + c] = noise(h.cloud.hash(i), 10 + c);
-    const double v_norm = std::sqrt(mass_dot(v, v));
-    for (auto &e : v)
-      e /= v_norm;
-    const unsigned int iterations = std::min<unsigned int>(60, 3 * h.cloud.n_global());
-    for (unsigned int j = 0; j < iterations; ++j)
-      {
-        Q.push_back(v);
-        apply(v, Av);
-        alpha.push_back(mass_dot(Av, v));
-        for (unsigned int pass = 0; pass < 2; ++pass)
-          for (const auto &q : Q)
-            {
-              const double c = mass_dot(Av, q);
-              for (unsigned int k = 0; k < 3 * n; ++k)
-                Av[k] -= c * q[k];
-            }
-        const double b = std::sqrt(mass_dot(Av, Av));
-        if (b < 1e-12 * std::abs(alpha.back()))
-          break; // an invariant subspace: its Ritz values are eigenvalues
-        beta.push_back(b);
-        for (unsigned int k = 0; k < 3 * n; ++k)
-          v[k] = Av[k] / b;
-      }
-    const auto top_ritz = [&](const unsigned int m) {
-      LAPACKFullMatrix<double> T(m, m);
-      for (unsigned int j = 0; j < m; ++j)
-        {
-          T(j, j) = alpha[j];
-          if (j + 1 < m)
-            T(j, j + 1) = T(j + 1, j) = beta[j];
-        }
-      T.compute_eigenvalues();
-      double top = 0;
-      for (unsigned int j = 0; j < m; ++j)
-        top = std::max(top, T.eigenvalue(j).real());
-      return top;
-    };
-    const double lambda  = top_ritz(alpha.size());
-    const double settled = std::abs(lambda - top_ritz((alpha.size() + 1) / 2)) / lambda;
+        start[3 * i + c] = noise(h.cloud.hash(i), 10 + c);
+    const auto [lambda, settled] = largest_eigenvalue(h, start, 1e-6 * spacing);
     const double ratio  = dt_est * std::sqrt(lambda) / 2;
     info(report, "    dt_true = 2 / sqrt(lambda_max)", 2 / std::sqrt(lambda));
     report.check("    dt_est / dt_true", ratio, ratio <= 1 + 1e-9 && ratio > 0.1, "in (0.1, 1 + 1e-9]");

@@ -26,6 +26,8 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_dgq.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/lapack_full_matrix.h>
+#include <deal.II/physics/transformations.h>
 
 #include <array>
 #include <cmath>
@@ -290,6 +292,132 @@ namespace pdtest
     std::vector<double>                               damage; // continuous bond damage, or empty: none
     std::vector<unsigned int>                         points;
   };
+
+  /// The scene of the rigid-motion checks (physics/rigid_motion.cc,
+  /// models/conformance.cc): a box off the origin with a different spacing
+  /// along each axis, so that rotations move points by O(1).
+  namespace rigid_box
+  {
+    inline const Point<3>                    lower(0.2, -0.1, 0.3), upper(1.2, 0.7, 0.9);
+    inline const std::array<unsigned int, 3> cells{{8, 7, 5}}; // spacings 0.125, 0.114, 0.12
+    constexpr double                         horizon = 3.015 * 0.125;
+    // The translation and the rotation axis of the checks: no symmetry of the box.
+    inline const Tensor<1, 3> translation = Point<3>(0.3, -0.7, 1.1), axis = Point<3>(1, -2, 3);
+  } // namespace rigid_box
+
+  /// A rigid motion y = Q x + c (about a point p: y = Q (x - p) + p + c).
+  struct RigidMotion
+  {
+    std::string  name;
+    Tensor<2, 3> Q;
+    Tensor<1, 3> c;
+  };
+
+  /// The rotation by @p angle about @p axis (of any length).
+  inline Tensor<2, 3>
+  rotation(const Tensor<1, 3> &axis, const double angle)
+  {
+    return Physics::Transformations::Rotations::rotation_matrix_3d(axis / axis.norm(), angle);
+  }
+
+  /// The deformed state y0 = x + u0 of the objectivity checks: non-affine,
+  /// |grad u0| ~ 1e-2.
+  inline Tensor<1, 3>
+  non_affine_displacement(const Point<3> &x)
+  {
+    Tensor<1, 3> d;
+    d[0] = 1e-3 * std::sin(7 * x[1]) + 2e-3 * x[0] * x[2];
+    d[1] = -1e-3 * std::cos(5 * x[0] + x[2]);
+    d[2] = 1.5e-3 * x[1] * x[1];
+    return d;
+  }
+
+  /// The largest eigenvalue of -rho^-1 dF/du (lumped mass; dt_true = 2 /
+  /// sqrt(lambda_max) is velocity-Verlet's limit) and how far it has settled.
+  struct LargestEigenvalue
+  {
+    double lambda;  // the largest Ritz value: approaches lambda_max from below
+    double settled; // its relative change over the last half of the steps
+  };
+
+  /// Lanczos in the mass inner product (the operator is self-adjoint in it)
+  /// with full reorthogonalization, @p iterations steps at most, from @p v
+  /// (dim entries per owned point), on central differences of @p h's force
+  /// about u = 0 with amplitude @p eps.
+  inline LargestEigenvalue
+  largest_eigenvalue(Harness &h, std::vector<double> v, const double eps, const unsigned int iterations = 60)
+  {
+    const MPI_Comm      comm    = h.comm;
+    const unsigned int  n       = h.cloud.n_owned();
+    const double        density = h.material->density();
+    const double       *V       = h.cloud.volume.data();
+    const auto          mass_dot = [&](const std::vector<double> &a, const std::vector<double> &b) {
+      double s = 0;
+      for (unsigned int k = 0; k < 3 * n; ++k)
+        s += density * V[k / 3] * a[k] * b[k];
+      return Utilities::MPI::sum(s, comm);
+    };
+    std::vector<double> w(3 * n), plus(3 * n);
+    // y = -(1/rho) dF/du x.
+    const auto apply = [&](const std::vector<double> &x, std::vector<double> &y) {
+      double x_max = 0;
+      for (const double e : x)
+        x_max = std::max(x_max, std::abs(e));
+      const double scale = eps / Utilities::MPI::max(x_max, comm);
+      for (const double sign : {1.0, -1.0})
+        {
+          for (unsigned int k = 0; k < 3 * n; ++k)
+            w[k] = sign * scale * x[k];
+          h.set_displacement(w);
+          h.evaluate(false);
+          for (unsigned int k = 0; k < 3 * n; ++k)
+            if (sign > 0)
+              plus[k] = h.force.local_element(k);
+            else
+              y[k] = -(plus[k] - h.force.local_element(k)) / (2 * scale * density);
+        }
+    };
+    std::vector<std::vector<double>> Q;
+    std::vector<double>              alpha, beta, Av(3 * n);
+    const double                     v_norm = std::sqrt(mass_dot(v, v));
+    for (auto &e : v)
+      e /= v_norm;
+    for (unsigned int j = 0; j < iterations; ++j)
+      {
+        Q.push_back(v);
+        apply(v, Av);
+        alpha.push_back(mass_dot(Av, v));
+        for (unsigned int pass = 0; pass < 2; ++pass)
+          for (const auto &q : Q)
+            {
+              const double c = mass_dot(Av, q);
+              for (unsigned int k = 0; k < 3 * n; ++k)
+                Av[k] -= c * q[k];
+            }
+        const double b = std::sqrt(mass_dot(Av, Av));
+        if (b < 1e-12 * std::abs(alpha.back()) || Q.size() == 3 * h.cloud.n_global())
+          break; // an invariant subspace: its Ritz values are eigenvalues
+        beta.push_back(b);
+        for (unsigned int k = 0; k < 3 * n; ++k)
+          v[k] = Av[k] / b;
+      }
+    const auto top_ritz = [&](const unsigned int m) {
+      LAPACKFullMatrix<double> T(m, m);
+      for (unsigned int j = 0; j < m; ++j)
+        {
+          T(j, j) = alpha[j];
+          if (j + 1 < m)
+            T(j, j + 1) = T(j + 1, j) = beta[j];
+        }
+      T.compute_eigenvalues();
+      double top = 0;
+      for (unsigned int j = 0; j < m; ++j)
+        top = std::max(top, T.eigenvalue(j).real());
+      return top;
+    };
+    const double lambda = top_ritz(alpha.size());
+    return {lambda, std::abs(lambda - top_ritz((alpha.size() + 1) / 2)) / lambda};
+  }
 
   /// The models of the coupling tests: PMB (K = 1) and LPS (K = 1, G = 0.35;
   /// not 0.6, where 3K - 5G = 0 would hide its dilatation term) with

@@ -22,45 +22,22 @@
 
 #include "harness.h"
 
-#include <deal.II/physics/transformations.h>
-
 using namespace pdtest;
-
-namespace
-{
-  Tensor<2, 3>
-  rotation(const Tensor<1, 3> &axis, const double angle)
-  {
-    return Physics::Transformations::Rotations::rotation_matrix_3d(axis / axis.norm(), angle);
-  }
-
-  struct Motion
-  {
-    std::string  name;
-    Tensor<2, 3> Q;
-    Tensor<1, 3> c;
-  };
-} // namespace
 
 int
 main(int argc, char *argv[])
 {
   return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
-    const Point<3>                    lower(0.2, -0.1, 0.3), upper(1.2, 0.7, 0.9);
-    const std::array<unsigned int, 3> cells{{8, 7, 5}}; // spacings 0.125, 0.114, 0.12
-    const double                      horizon = 3.015 * 0.125;
-    const double                      K       = 2.5;
-    const double                      strain  = 1e-3;
-    const double                      f_ref   = K * strain / horizon;
-    const double                      tol     = 1e-10;
+    const double K      = 2.5;
+    const double strain = 1e-3;
+    const double f_ref  = K * strain / rigid_box::horizon;
+    const double tol    = 1e-10;
 
     const Tensor<2, 3> I = unit_symmetric_tensor<3>();
-    Tensor<1, 3>       c;
-    c[0] = 0.3, c[1] = -0.7, c[2] = 1.1;
-    Tensor<1, 3> axis, axis_z;
-    axis[0] = 1, axis[1] = -2, axis[2] = 3;
+    const Tensor<1, 3> c = rigid_box::translation, axis = rigid_box::axis;
+    Tensor<1, 3>       axis_z;
     axis_z[2] = 1;
-    const std::vector<Motion> motions = {
+    const std::vector<RigidMotion> motions = {
       {"translation", I, c},
       {"rotation 90 deg about z", rotation(axis_z, M_PI / 2), Tensor<1, 3>()},
       {"rotation 90 deg about (1,-2,3) + translation", rotation(axis, M_PI / 2), c},
@@ -75,7 +52,7 @@ main(int argc, char *argv[])
 
     for (const auto &spec : materials)
       {
-        Harness h(comm, lower, upper, cells, horizon, spec);
+        Harness h(comm, rigid_box::lower, rigid_box::upper, rigid_box::cells, rigid_box::horizon, spec);
         const bool lps = spec.model == "LPS";
         std::string name = spec.model;
         if (spec.keys.count("Influence function"))
@@ -114,14 +91,8 @@ main(int argc, char *argv[])
           }
 
         // Objectivity under a 90 degree rotation plus translation.
-        const Motion &m = motions[2];
-        auto          u0 = [](const Point<3> &x) {
-          Tensor<1, 3> d;
-          d[0] = 1e-3 * std::sin(7 * x[1]) + 2e-3 * x[0] * x[2];
-          d[1] = -1e-3 * std::cos(5 * x[0] + x[2]);
-          d[2] = 1.5e-3 * x[1] * x[1];
-          return d;
-        };
+        const RigidMotion &m  = motions[2];
+        const auto         u0 = non_affine_displacement;
         h.set_displacement(u0);
         h.evaluate(true);
         const unsigned int        n = h.cloud.n_owned();
