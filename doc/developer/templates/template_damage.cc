@@ -68,15 +68,17 @@ namespace perideal
       return {{"template_energy_ratio", FieldUse::local, 1, "Bond energy ratio"}};
     }
 
-    // Breaks bonds of @p points (broken[b] = 1, for good) and returns how
-    // many broke now. Called before the material's force at every evaluation
-    // that may break bonds; the implicit solvers call it once per step.
+    // Breaks bonds of @p points (damage.broken[b] = 1, for good) and returns
+    // how many broke now. Called before the material's force at every
+    // evaluation that may break bonds; the implicit solvers call it once per
+    // step. A binary model (continuous() false, the default) never sees
+    // damage.damage; a continuous one raises it in place.
     std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const override
+    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
     {
       std::size_t n = 0;
       with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-        n = update<decltype(periodic)::value>(state, points, broken);
+        n = update<decltype(periodic)::value>(state, points, damage.broken);
       });
       return n;
     }
