@@ -195,17 +195,9 @@ namespace perideal
                 continue;
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
-              const double s     = (r - r0) / r0;
               const double cv = intact * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) *
                                 V[j] * state.bonds.fraction(b) * V[i];
-              for (unsigned int p = 0; p < 3; ++p)
-                for (unsigned int q = 0; q < 3; ++q)
-                  {
-                    const double MM = y[p] * y[q] / (r * r);
-                    const double A  = cv * (MM / r0 + s * ((p == q) - MM) / r);
-                    blocks[9 * (k + 1) + 3 * p + q] = -A;
-                    blocks[3 * p + q] += A;
-                  }
+              add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r);
             }
           rows.add(i, cols.data(), blocks.data(), n + 1);
         }

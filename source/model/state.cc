@@ -63,6 +63,12 @@ namespace perideal
   }
 
   double
+  MechanicalState::v(const unsigned int k) const
+  {
+    return is_fe(k) ? V[fe_local(k)] : velocity.local_element(k);
+  }
+
+  double
   MechanicalState::f(const unsigned int k) const
   {
     return is_fe(k) ? F[fe_local(k)] : force.local_element(k);

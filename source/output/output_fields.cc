@@ -11,7 +11,8 @@ namespace perideal
 {
   namespace
   {
-    /// A vector: dim components per point, and a value per FE node.
+    /// A vector: dim components per point, and a value per FE node, both
+    /// read from one value per DoF of the mechanical state (state.h).
     class VectorField : public OutputField
     {
     public:
@@ -20,6 +21,21 @@ namespace perideal
       {
         return dim;
       }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int c) const final
+      {
+        return dof_value(data, dim * i + c);
+      }
+      double
+      node_value(const ComputeData &data, const unsigned int k) const final
+      {
+        return dof_value(data, data.state.point_entries() + data.continuum->nodes[k].local);
+      }
+
+    protected:
+      /// The field at DoF @p k (a real point's entry or an FE DoF).
+      virtual double
+      dof_value(const ComputeData &data, const unsigned int k) const = 0;
     };
 
     class ScalarField : public OutputField
@@ -32,14 +48,11 @@ namespace perideal
       }
     };
 
-    /// The FE nodes' acceleration of the lumped system.
+    /// f / rho: at an FE DoF the lumped force over the lumped mass.
     double
-    node_acceleration(const ComputeData &data, const unsigned int k)
+    acceleration(const MechanicalState &state, const unsigned int k)
     {
-      const unsigned int l = data.continuum->nodes[k].local;
-      return data.continuum->mass.local_element(l) > 0 ?
-               data.continuum->F.local_element(l) / data.continuum->mass.local_element(l) :
-               0.0;
+      return state.density(k) > 0 ? state.f(k) / state.density(k) : 0.0; // real points have rho > 0
     }
 
     class Displacement : public VectorField
@@ -51,14 +64,9 @@ namespace perideal
         return 10;
       }
       double
-      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      dof_value(const ComputeData &data, const unsigned int k) const override
       {
-        return data.state.displacement.local_element(dim * i + c);
-      }
-      double
-      node_value(const ComputeData &data, const unsigned int k) const override
-      {
-        return data.continuum->U.local_element(data.continuum->nodes[k].local);
+        return data.state.u(k);
       }
     };
 
@@ -71,14 +79,9 @@ namespace perideal
         return 20;
       }
       double
-      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      dof_value(const ComputeData &data, const unsigned int k) const override
       {
-        return data.state.velocity.local_element(dim * i + c);
-      }
-      double
-      node_value(const ComputeData &data, const unsigned int k) const override
-      {
-        return data.continuum->V.local_element(data.continuum->nodes[k].local);
+        return data.state.v(k);
       }
     };
 
@@ -90,15 +93,12 @@ namespace perideal
       {
         return 30;
       }
+      /// At an FE DoF: the lumped force per volume, rho times the acceleration.
       double
-      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      dof_value(const ComputeData &data, const unsigned int k) const override
       {
-        return data.state.force.local_element(dim * i + c);
-      }
-      double
-      node_value(const ComputeData &data, const unsigned int k) const override
-      {
-        return (*data.node_density)[k] * node_acceleration(data, k);
+        const MechanicalState &state = data.state;
+        return state.is_fe(k) ? (*data.node_density)[state.fe_node(k)] * acceleration(state, k) : state.f(k);
       }
     };
 
@@ -111,14 +111,9 @@ namespace perideal
         return 40;
       }
       double
-      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
+      dof_value(const ComputeData &data, const unsigned int k) const override
       {
-        return data.state.force.local_element(dim * i + c) / data.state.mass_density[i];
-      }
-      double
-      node_value(const ComputeData &data, const unsigned int k) const override
-      {
-        return node_acceleration(data, k);
+        return acceleration(data.state, k);
       }
     };
 

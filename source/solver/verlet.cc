@@ -306,11 +306,12 @@ namespace perideal
           conditions.constraint_force[c] = f;
         }
       const std::vector<std::uint8_t> &prescribed = conditions.prescribed;
-      state.for_each([&](const MechanicalState::DoF &d) {
-        ke += 0.5 * d.density * d.measure * d.v * d.v;
-        if (!load_previous.empty() && !prescribed[d.number])
-          work += 0.5 * (conditions.load(d.number) + load_previous[d.number]) * d.measure * (d.u - u_previous[d.number]);
-      });
+      state.for_each([&](const MechanicalState::DoF &d) { ke += 0.5 * d.density * d.measure * d.v * d.v; });
+      if (!load_previous.empty())
+        state.for_each([&](const MechanicalState::DoF &d) {
+          if (!prescribed[d.number])
+            work += 0.5 * (conditions.load(d.number) + load_previous[d.number]) * d.measure * (d.u - u_previous[d.number]);
+        });
     }
     if (conditions.loads_depend_on_time)
       for (const double b : conditions.body_force)

@@ -140,9 +140,10 @@ namespace perideal
     }
 
     // The analytic tangent -d(V_i f_i)/du in 3x3 blocks (without it the
-    // implicit solvers take finite differences). With d(s M)/dy =
-    // M M^T / |xi| + s (I - M M^T) / |y| and A_ij = c (1 - d) V_j d(s M)/dy:
-    // K_ij = -V_i A_ij, K_ii = V_i sum_j A_ij.
+    // implicit solvers take finite differences). A pair force's bond block is
+    // add_pair_bond_tangent() (material.h): A_ij = c V_j d(s M)/dy, K_ij =
+    // -V_i A_ij, K_ii = V_i sum_j A_ij. A state-based material writes its own
+    // (lps.cc).
     bool
     add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
     {
@@ -162,17 +163,9 @@ namespace perideal
                 continue;
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(state.cloud, state.u, i, j, xi, y);
-              const double s     = (r - r0) / r0;
-              const double cv    = micromodulus(r0) * state.cloud.volume[j] * state.bonds.fraction(b) *
+              const double cv = micromodulus(r0) * state.cloud.volume[j] * state.bonds.fraction(b) *
                                 state.cloud.volume[i];
-              for (unsigned int p = 0; p < 3; ++p)
-                for (unsigned int q = 0; q < 3; ++q)
-                  {
-                    const double MM = y[p] * y[q] / (r * r);
-                    const double A  = cv * (MM / r0 + s * ((p == q) - MM) / r);
-                    blocks[9 * (k + 1) + 3 * p + q] = -A;
-                    blocks[3 * p + q] += A;
-                  }
+              add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r);
             }
           rows.add(i, cols.data(), blocks.data(), n + 1);
         }

@@ -73,6 +73,26 @@ namespace perideal
     return {std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]), std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])};
   }
 
+  /// The tangent of a pair (bond-based) force cv s M on bond k of a point's
+  /// family (M = y/|y|, s = |y|/|xi| - 1, cv: the micromodulus times the
+  /// volumes and the bond's intact share): A = cv d(s M)/dy = cv (M M^T / |xi|
+  /// + s (I - M M^T) / |y|) is added to the owner's block 0 and subtracted
+  /// from block k + 1 of the row's 3x3 blocks (TangentRows::add()).
+  inline void
+  add_pair_bond_tangent(double *blocks, const std::size_t k, const double cv, const double (&y)[3], const double r0,
+                        const double r)
+  {
+    const double s = (r - r0) / r0;
+    for (unsigned int p = 0; p < 3; ++p)
+      for (unsigned int q = 0; q < 3; ++q)
+        {
+          const double MM = y[p] * y[q] / (r * r);
+          const double A  = cv * (MM / r0 + s * ((p == q) - MM) / r);
+          blocks[9 * (k + 1) + 3 * p + q] = -A;
+          blocks[3 * p + q] += A;
+        }
+  }
+
   /// The owner's side of a hot bond loop, hoisted out of the loop over its family.
   struct BondOrigin
   {

@@ -88,6 +88,8 @@ namespace perideal
     double &
     v(const unsigned int k);
     double
+    v(const unsigned int k) const;
+    double
     f(const unsigned int k) const;
     double
     measure(const unsigned int k) const;
