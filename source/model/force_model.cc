@@ -217,6 +217,8 @@ namespace perideal
                      mechanical.force.begin(),
                      with_energy ? mechanical.energy_density.data() : nullptr,
                      *fields};
+    state.time = time;
+    state.dt   = dt;
     // A block whose material applies its critical stretch in its own first
     // bond pass (fused_breaking) gets it there; other damage models run their
     // own pass first.
@@ -390,6 +392,8 @@ namespace perideal
   {
     ModelState s = state;
     s.damage     = continuous[k] ? damage.data() : nullptr;
+    s.time       = time;
+    s.dt         = dt;
     return s;
   }
 
@@ -399,6 +403,8 @@ namespace perideal
     TimerOutput::Scope t(timer, "damage");
     mechanical.displacement.update_ghost_values();
     ModelState state{cloud, bonds, broken.data(), mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
+    state.time        = time;
+    state.dt          = dt;
     std::size_t newly = 0;
     for (unsigned int k = 0; k < blocks.size(); ++k)
       newly += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, arrays());

@@ -151,6 +151,7 @@ namespace perideal
       d.u                   = newton.u_predicted[k];
     });
     conditions.apply_prescribed(time, dt);
+    access->model.set_time(time, dt);
     if (conditions.loads_depend_on_time)
       conditions.evaluate_loads(time);
     conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);

@@ -96,6 +96,7 @@ namespace perideal
     access->pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
     const ImplicitSolver::LoadPathState step_start = implicit_solver->load_path_state();
     conditions.apply_prescribed(time, dt_load);
+    access->model.set_time(time, dt_load);
     // No motion between load steps (apply_prescribed sets the supports'
     // rate), so no kinetic energy.
     access->state.set_velocity_zero();

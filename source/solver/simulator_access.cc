@@ -4,6 +4,7 @@
 #include <perideal/base/interrupt.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
+#include <perideal/simulation/deck.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/solver/time_integrator.h>
 
@@ -28,6 +29,7 @@ namespace perideal
   SimulatorAccess::evaluate_initial_state() const
   {
     update_ghosts();
+    model.set_time(deck.solver.initial_time, 0);
     model.compute_forces(true);
   }
 

@@ -263,6 +263,7 @@ namespace perideal
         d.u += dt * d.v;
       });
       conditions.apply_prescribed(new_time, dt);
+      model.set_time(new_time, dt);
       state.distribute_displacement();
       if (conditions.loads_depend_on_time)
         {

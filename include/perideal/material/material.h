@@ -182,6 +182,11 @@ namespace perideal
     // damage model is continuous: the material scales bond b by 1 - damage[b]
     // and ignores broken (d = 1 there).
     const double *damage = nullptr;
+    // The time the state belongs to and the step that led to it (0 at the
+    // initial state): rate models (viscoelasticity) integrate their history
+    // N -> NP1 over dt, time-dependent fields (a temperature) read time.
+    double time = 0;
+    double dt   = 0;
   };
 
   class Material

@@ -101,6 +101,17 @@ namespace perideal
       return !damage.empty();
     }
 
+    /// The time of the state the next evaluations see and the step that led
+    /// to it (ModelState::time, dt). The integrators set it with the step's
+    /// prescribed values (ConditionSet::apply_prescribed), before its first
+    /// evaluation.
+    void
+    set_time(const double time_, const double dt_)
+    {
+      time = time_;
+      dt   = dt_;
+    }
+
     /// The step is accepted: every model's history becomes the state the
     /// next step starts from (FieldStore::commit()). The integrators call
     /// it exactly once per accepted step, never inside a Newton iteration.
@@ -148,7 +159,7 @@ namespace perideal
     std::unique_ptr<FieldStore> fields;
     std::vector<bool>           continuous; // by block: its damage model is continuous
     /// @p state for block @p k's material: with the continuous damage if its
-    /// damage model is continuous.
+    /// damage model is continuous, and the time.
     ModelState
     block_state(const ModelState &state, const unsigned int k) const;
     /// The bond damage for DamageModel::update().
@@ -164,5 +175,6 @@ namespace perideal
     BondStretchLimits            stretch_limits; // the critical stretch of each bond, across blocks
     const std::vector<double>   *body_force = nullptr;
     Coupling                    *coupling   = nullptr;
+    double                       time = 0, dt = 0; // set_time()
   };
 } // namespace perideal
