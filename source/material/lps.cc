@@ -21,6 +21,13 @@
 // + beta_j e], omega_i = 0 if j is not in F(i), omega_j = omega(|xi|/delta_j)
 // (the owner's influence function at the other block's horizon) or 0 if i is
 // not in F(j); both ends see the same sum, so the bond acts on both.
+// Thermal strain: with a temperature change dT (T - T_ref) per point, every
+// e above is the mechanical extension e = |y| - |xi| - alpha dT_ij |xi|,
+// dT_ij = (dT_i + dT_j)/2 (the same for both ends): the dilatation, the
+// deviatoric part, the energy and the tangent (whose d e / d y is unchanged;
+// h below takes the mechanical e) all see it.
+// same with the owner's dT.
+// The moduli: any two of K, G, E, nu (elastic_constants.h).
 // Surface correction (optional; Le & Bobaru, Comput. Mech. 61, 2018, energy
 // method): under pure shear u = gamma/2 (xi_q e_p + xi_p e_q) the deviatoric
 // energy density of point i is (15 G / 2 m_i) gamma^2 (S2 - S1^2/m_i), the
@@ -30,6 +37,7 @@
 // derivative of the corrected energy.
 
 #include <perideal/base/expression.h>
+#include <perideal/material/elastic_constants.h>
 #include <perideal/material/material.h>
 
 #include <cmath>
@@ -45,8 +53,9 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
-      prm.declare_entry("Shear modulus", "0", Patterns::Double(), "Shear modulus G.");
+      declare_elastic_constants(prm);
+      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
+                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
       prm.declare_entry("Influence function", "1", Patterns::Anything(),
                         "omega as a muparser expression in r = |xi|/horizon, e.g. "
                         "'1', '1/r', 'exp(-r*r)'. Non-constant functions are "
@@ -64,11 +73,11 @@ namespace perideal
     parse_parameters(ParameterHandler &prm, const std::string &path) override
     {
       rho = prm.get_double("Density");
-      K   = prm.get_double("Bulk modulus");
-      G   = prm.get_double("Shear modulus");
       require_positive(rho, path + "/Density");
-      require_positive(K, path + "/Bulk modulus");
-      require_positive(G, path + "/Shear modulus");
+      const ElasticConstants moduli = parse_elastic_constants(prm, path);
+      K                 = moduli.K;
+      G                 = moduli.G;
+      thermal_expansion = prm.get_double("Thermal expansion coefficient");
       surface_correction = prm.get("Surface correction") == "Energy";
       influence = std::make_unique<Expression>(prm.get("Influence function"),
                                                path + "/Influence function",
@@ -204,15 +213,18 @@ namespace perideal
       // Compile-time variants keep the bond loop free of branches.
       with_flag(!constant_influence, [&](auto weighted) {
         with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-          constexpr bool W = decltype(weighted)::value, P = decltype(periodic)::value;
-          if (state.breaking)
-            dilatation<BondDamage::breaking, W, P>(state, points);
-          else if (state.damage)
-            dilatation<BondDamage::continuous, W, P>(state, points);
-          else if (state.broken)
-            dilatation<BondDamage::read, W, P>(state, points);
-          else
-            dilatation<BondDamage::none, W, P>(state, points);
+          with_flag(thermal(state), [&](auto heated) {
+            constexpr bool W = decltype(weighted)::value, P = decltype(periodic)::value,
+                           T = decltype(heated)::value;
+            if (state.breaking)
+              dilatation<BondDamage::breaking, W, P, T>(state, points);
+            else if (state.damage)
+              dilatation<BondDamage::continuous, W, P, T>(state, points);
+            else if (state.broken)
+              dilatation<BondDamage::read, W, P, T>(state, points);
+            else
+              dilatation<BondDamage::none, W, P, T>(state, points);
+          });
         });
       });
     }
@@ -352,8 +364,9 @@ namespace perideal
               w2 *= intact;
               double xi[3], y[3];
               const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
-              const double h     = halves ? w * (r0 * alpha[i] + beta[i] * (r - r0)) + w2 * (r0 * alpha[j] + beta[j] * (r - r0)) :
-                                            w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * (r - r0));
+              const double e     = r - r0 - thermal_extension(state, i, j, r0);
+              const double h     = halves ? w * (r0 * alpha[i] + beta[i] * e) + w2 * (r0 * alpha[j] + beta[j] * e) :
+                                            w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * e);
               const double w_beta = halves ? w * beta[i] + w2 * beta[j] : w * (beta[i] + beta[j]);
               w_r0[k]            = w * r0;
               for (unsigned int d = 0; d < 3; ++d)
@@ -408,7 +421,7 @@ namespace perideal
     }
 
   private:
-    double                      rho = 0, K = 0, G = 0;
+    double                      rho = 0, K = 0, G = 0, thermal_expansion = 0;
     std::unique_ptr<Expression> influence;
     bool                        constant_influence = true;
     double                      omega0             = 1;
@@ -418,7 +431,21 @@ namespace perideal
     bool                        energy_weighted = false; // weight_energy() scaled the fields
     bool                        surface_correction = false;
 
-    template <BondDamage mode, bool weighted, bool periodic>
+    bool
+    thermal(const ModelState &state) const
+    {
+      return state.temperature_change && thermal_expansion != 0;
+    }
+    /// alpha dT_ij |xi| of bond i-j, 0 without thermal strain (tangent).
+    double
+    thermal_extension(const ModelState &state, const unsigned int i, const unsigned int j, const double r0) const
+    {
+      return thermal(state) ?
+               thermal_expansion * 0.5 * (state.temperature_change[i] + state.temperature_change[j]) * r0 :
+               0.0;
+    }
+
+    template <BondDamage mode, bool weighted, bool periodic, bool heated>
     void
     dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
     {
@@ -437,6 +464,8 @@ namespace perideal
       const double       *gamma    = state.fields.get("lps_gamma").begin();
       double             *theta    = state.fields.get("dilatation").begin();
       double             *alpha    = state.fields.get("lps_alpha").begin();
+      const double       *dT       = state.temperature_change; // heated only
+      const double        half_a   = 0.5 * thermal_expansion;
       std::size_t         newly_broken = 0;
       for (const unsigned int i : points)
         {
@@ -460,7 +489,8 @@ namespace perideal
                 w *= 1.0 - d[b];
               else if (mode != BondDamage::none)
                 w *= 1.0 - damage[b];
-              sum += w * r0 * (r - r0) * V[j];
+              const double ext = heated ? r - r0 - half_a * (dT[i] + dT[j]) * r0 : r - r0;
+              sum += w * r0 * ext * V[j];
             }
           theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
           alpha[i] = gamma[i] * theta[i];
@@ -475,19 +505,21 @@ namespace perideal
     {
       with_flag(state.energy != nullptr, [&](auto energy) {
         with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-          constexpr bool E = decltype(energy)::value, P = decltype(periodic)::value;
-          if (halves)
-            force<mode, E, true, P, true>(state, points);
-          else if (constant_influence)
-            force<mode, E, false, P>(state, points);
-          else
-            force<mode, E, true, P>(state, points);
+          with_flag(thermal(state), [&](auto heated) {
+            constexpr bool E = decltype(energy)::value, P = decltype(periodic)::value, T = decltype(heated)::value;
+            if (halves)
+              force<mode, E, true, P, T, true>(state, points);
+            else if (constant_influence)
+              force<mode, E, false, P, T>(state, points);
+            else
+              force<mode, E, true, P, T>(state, points);
+          });
         });
       });
     }
 
     /// mode: none, read (state.broken) or continuous (state.damage).
-    template <BondDamage mode, bool energy, bool weighted, bool periodic, bool two_halves = false>
+    template <BondDamage mode, bool energy, bool weighted, bool periodic, bool heated, bool two_halves = false>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const
     {
@@ -507,6 +539,8 @@ namespace perideal
       const double       *m        = state.fields.get("weighted_volume").begin();
       const double       *gamma    = state.fields.get("lps_gamma").begin();
       double             *f        = state.force;
+      const double       *dT       = state.temperature_change; // heated only
+      const double        half_a   = 0.5 * thermal_expansion;
       for (const unsigned int i : points)
         {
           const BondOrigin origin(X, u, i);
@@ -522,7 +556,7 @@ namespace perideal
               const double ex = ev[0], ey = ev[1], ez = ev[2], dx = y[0], dy = y[1], dz = y[2];
               const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
               const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
-              const double       e  = r - r0;
+              const double       e  = heated ? r - r0 - half_a * (dT[i] + dT[j]) * r0 : r - r0;
               double             w  = weighted ? w_bond[b] : omega0;
               double             w2 = two_halves ? w_other[b] : 0.0;
               if (mode != BondDamage::none)
@@ -558,5 +592,6 @@ namespace perideal
 
   PERIDEAL_REGISTER(Material, LPS, "LPS",
                     "Linear peridynamic solid, state based (Peridigm's 'Elastic'). "
-                    "Keys: Density, Bulk modulus, Shear modulus, Influence function, Surface correction.")
+                    "Keys: Density, two of Bulk modulus, Shear modulus, Young's modulus, Poisson's ratio, Thermal "
+                    "expansion coefficient, Influence function, Surface correction.")
 } // namespace perideal

@@ -2,9 +2,14 @@
 // Bond Based"). Pairwise force density on point i from bond i-j:
 //   f = c s (1 - d) V_j M,   s = (|y_j - y_i| - |xi|) / |xi|,
 //   c = 18 K / (pi delta^4),  M = (y_j - y_i) / |y_j - y_i|,
+// Thermal strain: with a temperature change dT (T - T_ref) per point, the
+// bond's stretch is the mechanical one, s = (|y| - |xi|)/|xi| - alpha dT_ij,
+// dT_ij = (dT_i + dT_j)/2 (the same for both ends), in the force, the energy
+// and the tangent.
 // d the bond damage: 0 or 1 (binary damage models), or in [0, 1] (continuous
 // ones; the energy and the tangent scale by 1 - d too: the secant at fixed d).
-// Poisson's ratio is 1/4 by construction, so G = 3K/5.
+// Poisson's ratio is 1/4 by construction, so G = 3K/5: the moduli are one of
+// K, E, G (elastic_constants.h), or two of the four keys implying nu = 1/4.
 // Across blocks with different micromoduli the bond uses (c_i + c_j)/2, so
 // action equals reaction. Across different horizons a bond may be in one
 // family only (Bonds::family): each end contributes its half where the bond
@@ -19,6 +24,7 @@
 // pi delta^4, so c_i is scaled by g_i = pi delta^4 / sum_j |xi_ij| V_j and the
 // bond takes (c_i + c_j)/2 as across blocks.
 
+#include <perideal/material/elastic_constants.h>
 #include <perideal/material/material.h>
 
 #include <cmath>
@@ -34,7 +40,9 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
+      declare_elastic_constants(prm);
+      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
+                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
       prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
                         "Energy: scale each point's micromodulus by g = pi delta^4 / sum_j |xi| V_j, the "
                         "continuum's over its family's strain energy density under an isotropic expansion "
@@ -48,10 +56,10 @@ namespace perideal
     parse_parameters(ParameterHandler &prm, const std::string &path) override
     {
       rho = prm.get_double("Density");
-      K   = prm.get_double("Bulk modulus");
+      K   = parse_bond_based_elastic_constants(prm, path).K;
+      thermal_expansion  = prm.get_double("Thermal expansion coefficient");
       surface_correction = prm.get("Surface correction") == "Energy";
       require_positive(rho, path + "/Density");
-      require_positive(K, path + "/Bulk modulus");
     }
 
     double
@@ -109,14 +117,17 @@ namespace perideal
       // One micromodulus in the whole family (the common case): the plain loop.
       const bool uniform = uniform_neighborhood(state, points, c_field);
       // Compile-time variants keep the bond loop free of branches.
-      if (state.breaking)
-        dispatch<BondDamage::breaking>(uniform, state, points, c_field);
-      else if (state.damage)
-        dispatch<BondDamage::continuous>(uniform, state, points, c_field);
-      else if (state.broken)
-        dispatch<BondDamage::read>(uniform, state, points, c_field);
-      else
-        dispatch<BondDamage::none>(uniform, state, points, c_field);
+      with_flag(thermal(state), [&](auto heated) {
+        constexpr bool T = decltype(heated)::value;
+        if (state.breaking)
+          dispatch<BondDamage::breaking, T>(uniform, state, points, c_field);
+        else if (state.damage)
+          dispatch<BondDamage::continuous, T>(uniform, state, points, c_field);
+        else if (state.broken)
+          dispatch<BondDamage::read, T>(uniform, state, points, c_field);
+        else
+          dispatch<BondDamage::none, T>(uniform, state, points, c_field);
+      });
     }
 
     bool
@@ -197,7 +208,7 @@ namespace perideal
               const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
               const double cv = intact * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) *
                                 V[j] * state.bonds.fraction(b) * V[i];
-              add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r);
+              add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r, thermal_stretch(state, i, j));
             }
           rows.add(i, cols.data(), blocks.data(), n + 1);
         }
@@ -205,8 +216,20 @@ namespace perideal
     }
 
   private:
-    double rho = 0, K = 0;
+    double rho = 0, K = 0, thermal_expansion = 0;
     bool   surface_correction = false;
+
+    bool
+    thermal(const ModelState &state) const
+    {
+      return state.temperature_change && thermal_expansion != 0;
+    }
+    /// alpha dT_ij of bond i-j, 0 without thermal strain (set-up and tangent).
+    double
+    thermal_stretch(const ModelState &state, const unsigned int i, const unsigned int j) const
+    {
+      return thermal(state) ? thermal_expansion * 0.5 * (state.temperature_change[i] + state.temperature_change[j]) : 0.0;
+    }
 
     /// sum over the bonds b = i->j of owned point @p i of f(b, j, |xi_ij|,
     /// beta_ij V_j) (set-up loops).
@@ -252,30 +275,30 @@ namespace perideal
     }
     mutable bool uniform = true, uniform_known = false;
 
-    template <BondDamage mode>
+    template <BondDamage mode, bool T>
     void
     dispatch(const bool uniform, const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c) const
     {
       with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
         constexpr bool P = decltype(periodic)::value;
         if (!state.bonds.volume_fraction.empty())
-          state.energy ? kernel<false, mode, true, true, P>(state, points, c) :
-                         kernel<false, mode, false, true, P>(state, points, c);
+          state.energy ? kernel<false, mode, true, true, P, T>(state, points, c) :
+                         kernel<false, mode, false, true, P, T>(state, points, c);
         else if (!state.bonds.family.empty())
-          state.energy ? kernel<false, mode, true, false, P, true>(state, points, c) :
-                         kernel<false, mode, false, false, P, true>(state, points, c);
+          state.energy ? kernel<false, mode, true, false, P, T, true>(state, points, c) :
+                         kernel<false, mode, false, false, P, T, true>(state, points, c);
         else if (uniform)
-          state.energy ? kernel<true, mode, true, false, P>(state, points, c) :
-                         kernel<true, mode, false, false, P>(state, points, c);
+          state.energy ? kernel<true, mode, true, false, P, T>(state, points, c) :
+                         kernel<true, mode, false, false, P, T>(state, points, c);
         else
-          state.energy ? kernel<false, mode, true, false, P>(state, points, c) :
-                         kernel<false, mode, false, false, P>(state, points, c);
+          state.energy ? kernel<false, mode, true, false, P, T>(state, points, c) :
+                         kernel<false, mode, false, false, P, T>(state, points, c);
       });
     }
 
     /// halves: blocks of different horizons (Bonds::family), never with
     /// partial volumes (their bonds are in both families).
-    template <bool uniform_c, BondDamage mode, bool energy, bool partial, bool periodic, bool halves = false>
+    template <bool uniform_c, BondDamage mode, bool energy, bool partial, bool periodic, bool heated, bool halves = false>
     void
     kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
     {
@@ -295,6 +318,8 @@ namespace perideal
       const float        *beta   = state.bonds.volume_fraction.data();
       const std::uint8_t *family = state.bonds.family.data();
       double             *f      = state.force;
+      const double       *dT     = state.temperature_change; // heated only
+      const double        half_alpha = 0.5 * thermal_expansion;
       std::size_t         newly_broken = 0;
 
       for (const unsigned int i : points)
@@ -314,7 +339,7 @@ namespace perideal
                 newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
               const double r0     = std::sqrt(r0sq);
               const double r      = std::sqrt(rsq);
-              const double s      = (r - r0) / r0;
+              const double s      = heated ? (r - r0) / r0 - half_alpha * (dT[i] + dT[j]) : (r - r0) / r0;
               const double cij    = uniform_c ? c_own :
                                     halves    ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
                                                     (family[b] & Bonds::other_half ? c[j] : 0.0)) :
@@ -343,5 +368,6 @@ namespace perideal
 
   PERIDEAL_REGISTER(Material, PMB, "PMB",
                     "Prototype microelastic brittle, bond based (Peridigm's 'Elastic "
-                    "Bond Based'). Keys: Density, Bulk modulus, Surface correction.")
+                    "Bond Based'). Keys: Density, one of Bulk modulus, Young's modulus, Shear modulus (Poisson's "
+                    "ratio 1/4), Thermal expansion coefficient, Surface correction.")
 } // namespace perideal

@@ -182,6 +182,12 @@ namespace perideal
         if (stretch_limits.common_limit(b) > 0 && blocks[b].material->fuses_stretch_criterion())
           fused_breaking[b] = {stretch_limits.common_limit(b), broken.data(), 0};
     }
+    if (temperature_function)
+      {
+        temperature_change.reinit(cloud.scalar_partitioner);
+        update_temperature();
+      }
+
     fields->update_ghost_values(FieldUse::constant);
     // The history starts from the initial state.
     fields->commit();
@@ -394,7 +400,18 @@ namespace perideal
     s.damage     = continuous[k] ? damage.data() : nullptr;
     s.time       = time;
     s.dt         = dt;
+    s.temperature_change = temperature_function ? temperature_change.begin() : nullptr;
     return s;
+  }
+
+  void
+  ForceModel::update_temperature()
+  {
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      temperature_change.local_element(i) =
+        temperature_function->value(cloud.position(i), time, cloud.hash(i)) - reference_temperature;
+    check_finite({temperature_function.get()}, comm);
+    temperature_change.update_ghost_values();
   }
 
   std::size_t

@@ -132,6 +132,22 @@ namespace perideal
       }
     };
 
+    /// T = dT + T_ref (Temperature/Function); the deck refuses it without one.
+    class Temperature : public ScalarField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 45;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int) const override
+      {
+        return data.model.temperature(i);
+      }
+    };
+
     class NumberOfNeighbors : public ScalarField
     {
     public:
@@ -214,6 +230,8 @@ namespace perideal
                       "nodes' lumped force times the density over their mass.")
     PERIDEAL_REGISTER(OutputField, Acceleration, "Acceleration",
                       "f / rho of a point; on continuum cells the FE nodes' lumped force over their mass.")
+    PERIDEAL_REGISTER(OutputField, Temperature, "Temperature",
+                      "T of a point, from Temperature/Function (only with a temperature field).")
     PERIDEAL_REGISTER(OutputField, Damage, "Damage",
                       "point damage, 1 - sum_j (1 - d_ij) V_j / sum_j V_j over a point's family.")
     PERIDEAL_REGISTER(OutputField, NumberOfNeighbors, "Number of neighbors",

@@ -83,6 +83,16 @@ namespace perideal
       }
     prm.leave_subsection();
 
+    prm.enter_subsection("Temperature");
+    prm.declare_entry("Function", "", Patterns::Anything(),
+                      "Temperature T as a muparser expression in x, y, z (the reference position) and t, "
+                      "e.g. '20 + 100*x' or '20 + 10*t'; empty: no temperature field. Every material "
+                      "strains its bonds by its Thermal expansion coefficient times T - T_ref "
+                      "(doc/thermal.md). Evaluated at every point once, or at every step if it reads t.");
+    prm.declare_entry("Reference temperature", "0", Patterns::Double(),
+                      "T_ref: the temperature at which the body is free of thermal strain.");
+    prm.leave_subsection();
+
     prm.enter_subsection("Coupling");
     prm.declare_entry("Blending width", "1", Patterns::Double(0),
                       "Width of the band inside continuum blocks, in horizons, over which the energy "
@@ -378,6 +388,18 @@ namespace perideal
       AssertThrow(region == "All" || deck.regions.count(region),
                   ExcMessage(path + "/Region: '" + region + "' is not defined in Discretization/Regions/Names"));
     };
+    prm.enter_subsection("Temperature");
+    deck.temperature.function  = prm.get("Function");
+    deck.temperature.reference = prm.get_double("Reference temperature");
+    if (deck.temperature.function.find_first_not_of(" \t") == std::string::npos)
+      deck.temperature.function.clear();
+    else
+      {
+        // A parse error now, naming the key.
+        const Expression check(deck.temperature.function, "Temperature/Function");
+      }
+    prm.leave_subsection();
+
     prm.enter_subsection("Coupling");
     deck.coupling.blending_width       = prm.get_double("Blending width");
     const std::string levels           = prm.get("Virtual point levels");
@@ -441,5 +463,7 @@ namespace perideal
     prm.enter_subsection("Output");
     deck.output.parse_parameters(prm);
     prm.leave_subsection();
+    AssertThrow(!deck.output.wants("Temperature") || !deck.temperature.function.empty(),
+                ExcMessage("Output/Variables: Temperature needs a temperature field: set Temperature/Function"));
   }
 } // namespace perideal

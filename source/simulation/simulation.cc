@@ -46,6 +46,9 @@ namespace perideal
     discretization   = std::make_unique<Discretization>(deck, comm, pcout, timer, dry_run_mode);
     discretization->setup();
     model = std::make_unique<ForceModel>(*discretization, state, record, comm, timer);
+    if (!deck.temperature.function.empty())
+      model->set_temperature(std::make_unique<Expression>(deck.temperature.function, "Temperature/Function"),
+                             deck.temperature.reference);
     model->setup();
     if (deck.has_continuum)
       {

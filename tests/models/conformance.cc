@@ -4,9 +4,11 @@
 // so no material is named here or there).
 //
 // Parameters, found generically: the model's keys are declared into a
-// ParameterHandler; Density, Bulk modulus and Shear modulus (or Young's
-// modulus and Poisson's ratio) get rho = 1.3, K = 2.5, G = 1.1 (nu = 0.31)
-// where declared; every other key keeps its default. If the model cannot be
+// ParameterHandler; Density gets rho = 1.3 and the moduli the first of
+// {Bulk modulus}, {Bulk modulus, Shear modulus}, {Young's modulus, Poisson's
+// ratio} (K = 2.5, G = 1.1, nu = 0.31) that the model declares and accepts
+// (a bond-based model takes K alone, its nu being 1/4); every other key keeps
+// its default. If the model cannot be
 // created so, the material FAILS with the error and the keys left at their
 // default (give the key a valid default, or teach the suite the key here).
 // Variants: the defaults, then each other value of every Patterns::Selection
@@ -65,6 +67,18 @@
 //     dt_true. If the measured dt_true makes 3 dt_est at least 1.1 dt_true,
 //     a run at 3 dt_est must exceed 10 E0 within 2000 steps (the top mode
 //     grows by a factor of at least 2.4 per step).
+// (g) if the model declares all of Bulk modulus, Shear modulus, Young's
+//     modulus and Poisson's ratio (elastic_constants.h): given the E and nu
+//     of the K, G it got above, it has the same K and G within 1e-12.
+// (h) thermal strain: every model must declare Thermal expansion coefficient
+//     (FAIL otherwise). With alpha = 1e-4 and a uniform dT = 5 (the rigid
+//     box of (a)), u = alpha dT (X - X0) is a free thermal expansion: max
+//     |f| / f_ref and max |W| / (K 1e-6) below 1e-10 at every point, surface
+//     included (e = |y| - |xi| - alpha dT |xi| is round-off of ~1e-16 |xi|
+//     against a strain of 5e-4). The same u without the temperature is
+//     printed: the force it gives (O(1) at the surface) is what the thermal
+//     term must cancel. Then (d) again with alpha = 1e-4 and a nonuniform dT
+//     = 3 + 2x - y + z^2 (the thermal term in the tangent).
 // (f) the printed numbers (6 digits) are compared by numdiff, for 1 and 2
 //     ranks, against the one stored tests/models/NAME.output; round-off
 //     quantities print only their bound.
@@ -76,6 +90,8 @@
 
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
+
+#include <set>
 
 #include "../physics/harness.h"
 
@@ -107,6 +123,46 @@ namespace
       {"Shear modulus", exact(G)},
       {"Young's modulus", exact(9 * K * G / (3 * K + G))},
       {"Poisson's ratio", exact((3 * K - 2 * G) / (2 * (3 * K + G)))}};
+    return keys;
+  }
+
+  /// Density and the fewest elastic keys the model declares and accepts:
+  /// K alone (bond based), K and G, or E and nu; if none works, every elastic
+  /// key it declares (the variant then FAILS with the model's message).
+  std::map<std::string, std::string>
+  elastic_choice(const std::string &model, const std::set<std::string> &declared)
+  {
+    const Registry::Entry &entry = Registry::instance().get(model, "models_conformance");
+    const std::vector<std::vector<std::string>> candidates = {
+      {"Bulk modulus"}, {"Bulk modulus", "Shear modulus"}, {"Young's modulus", "Poisson's ratio"}};
+    for (const auto &candidate : candidates)
+      {
+        std::map<std::string, std::string> keys;
+        for (const auto &name : candidate)
+          keys[name] = elastic_keys().at(name);
+        if (declared.count("Density"))
+          keys["Density"] = elastic_keys().at("Density");
+        bool all_declared = true;
+        for (const auto &[name, value] : keys)
+          all_declared &= declared.count(name) > 0;
+        if (!all_declared)
+          continue;
+        try
+          {
+            ParameterHandler prm;
+            entry.declare(prm);
+            for (const auto &[name, value] : keys)
+              prm.set(name, value);
+            entry.create()->parse_parameters(prm, "probe");
+            return keys;
+          }
+        catch (const std::exception &)
+          {}
+      }
+    std::map<std::string, std::string> keys;
+    for (const auto &name : declared)
+      if (elastic_keys().count(name))
+        keys[name] = elastic_keys().at(name);
     return keys;
   }
 
@@ -169,10 +225,10 @@ namespace
   std::vector<Variant>
   variants_of(const std::string &model, const std::vector<Key> &keys)
   {
-    MaterialSpec base{model, {}};
+    std::set<std::string> declared;
     for (const auto &key : keys)
-      if (elastic_keys().count(key.name))
-        base.keys[key.name] = elastic_keys().at(key.name);
+      declared.insert(key.name);
+    MaterialSpec base{model, elastic_choice(model, declared)};
     std::vector<Variant> variants = {{"defaults", base}};
     for (const auto &key : keys)
       {
@@ -314,10 +370,16 @@ namespace
   // ---------------------------------------------------------------------
   // (d) tangent against finite differences.
   void
-  check_tangent(const MPI_Comm comm, Report &report, const MaterialSpec &spec)
+  check_tangent(const MPI_Comm comm, Report &report, const MaterialSpec &spec, const bool heated = false)
   {
     const double spacing = 0.25;
     Harness      h(comm, Point<3>(0, 0, 0), Point<3>(1.5, 1, 1), {{6, 4, 4}}, 2.015 * spacing, spec);
+    if (heated)
+      for (unsigned int i = 0; i < h.cloud.n_local(); ++i)
+        {
+          const Point<3> x = h.cloud.position(i);
+          h.temperature_change.push_back(3 + 2 * x[0] - x[1] + x[2] * x[2]);
+        }
     h.set_random_displacement(0.05 * spacing);
     h.evaluate(false);
 
@@ -345,8 +407,8 @@ namespace
         }
     max_a    = Utilities::MPI::max(max_a, comm);
     max_diff = Utilities::MPI::max(max_diff, comm);
-    report.line("  (d) tangent on a random state (5% of the spacing), box 6x4x4, coupling_hops = " +
-                std::to_string(hops));
+    report.line(std::string(heated ? "  (h) with alpha = 1e-4 and dT = 3 + 2x - y + z^2: (d) " : "  (d) ") +
+                "tangent on a random state (5% of the spacing), box 6x4x4, coupling_hops = " + std::to_string(hops));
     report.below("    max |K - K_fd| / max |K|", max_diff / max_a, 1e-6);
     info(report, "    Frobenius norm of K", analytic.matrix.frobenius_norm());
   }
@@ -432,6 +494,79 @@ namespace
   }
 
   // ---------------------------------------------------------------------
+  // (g) any two of K, G, E, nu give the same moduli.
+  void
+  check_elastic_constants(Report &report, const MaterialSpec &spec, const std::set<std::string> &declared)
+  {
+    for (const char *key : {"Bulk modulus", "Shear modulus", "Young's modulus", "Poisson's ratio"})
+      if (!declared.count(key))
+        return;
+    const Registry::Entry &entry  = Registry::instance().get(spec.model, "models_conformance");
+    const auto             create = [&](const std::map<std::string, std::string> &keys) {
+      ParameterHandler prm;
+      entry.declare(prm);
+      for (const auto &[name, value] : keys)
+        prm.set(name, value);
+      auto material = entry.create();
+      material->parse_parameters(prm, "test material");
+      return material;
+    };
+    const auto   reference = create(spec.keys);
+    const double k = reference->bulk_modulus(), g = reference->shear_modulus();
+    std::map<std::string, std::string> keys = spec.keys;
+    for (const char *key : {"Bulk modulus", "Shear modulus", "Young's modulus", "Poisson's ratio"})
+      keys.erase(key);
+    keys["Young's modulus"] = exact(9 * k * g / (3 * k + g));
+    keys["Poisson's ratio"] = exact((3 * k - 2 * g) / (2 * (3 * k + g)));
+    const auto   other = create(keys);
+    const double error = std::max(std::abs(other->bulk_modulus() / k - 1), std::abs(other->shear_modulus() / g - 1));
+    report.line("  (g) given the E and nu of its K, G");
+    report.below("    max relative difference of K and G", error, 1e-12);
+  }
+
+  // ---------------------------------------------------------------------
+  // (h) thermal strain: a free, uniformly heated body is stress free.
+  void
+  check_thermal(const MPI_Comm comm, Report &report, MaterialSpec spec, const std::set<std::string> &declared)
+  {
+    if (!declared.count("Thermal expansion coefficient"))
+      {
+        report.line("  FAIL: " + spec.model +
+                    " declares no key 'Thermal expansion coefficient': every model must support thermal strain "
+                    "(ModelState::temperature_change, doc/models.md)");
+        ++report.failures;
+        return;
+      }
+    const double alpha = 1e-4, dT = 5;
+    spec.keys["Thermal expansion coefficient"] = exact(alpha);
+    const double horizon = rigid_box::horizon;
+    Harness      h(comm, rigid_box::lower, rigid_box::upper, rigid_box::cells, horizon, spec);
+    const double k     = h.material->bulk_modulus();
+    const double f_ref = k * 1e-3 / horizon, W_ref = k * 1e-6;
+    const Tensor<1, 3> X0 = Point<3>(0.9, 0.5, -0.2);
+    h.set_displacement([&](const Point<3> &x) { return Tensor<1, 3>(alpha * dT * (x - X0)); });
+    const auto maxima = [&] {
+      h.evaluate(true);
+      double f_max = 0, W_max = 0;
+      for (unsigned int i = 0; i < h.cloud.n_owned(); ++i)
+        {
+          f_max = std::max(f_max, h.force_of(i).norm());
+          W_max = std::max(W_max, std::abs(h.energy[i]));
+        }
+      return std::make_pair(Utilities::MPI::max(f_max, comm) / f_ref, Utilities::MPI::max(W_max, comm) / W_ref);
+    };
+    const auto [f_cold, W_cold] = maxima();
+    h.temperature_change.assign(h.cloud.n_local(), dT);
+    const auto [f_max, W_max] = maxima();
+    report.line("  (h) free thermal expansion: alpha = 1e-4, uniform dT = 5, u = alpha dT (X - X0)");
+    info(report, "    without the temperature: max |f| / (K 1e-3 / horizon)", f_cold);
+    info(report, "    without the temperature: max W / (K 1e-6)", W_cold);
+    report.below("    max |f| / (K 1e-3 / horizon)", f_max, 1e-10);
+    report.below("    max |W| / (K 1e-6)", W_max, 1e-10);
+    check_tangent(comm, report, spec, true);
+  }
+
+  // ---------------------------------------------------------------------
   void
   check_material(const MPI_Comm comm, Report &report, const std::string &model)
   {
@@ -441,6 +576,9 @@ namespace
     for (const auto &key : keys)
       list += (list.empty() ? "" : ", ") + key.name;
     report.line(model + ": keys " + list);
+    std::set<std::string> declared;
+    for (const auto &key : keys)
+      declared.insert(key.name);
     for (const auto &variant : variants_of(model, keys))
       {
         std::string set;
@@ -453,6 +591,8 @@ namespace
             check_homogeneous(comm, report, variant.spec);
             check_tangent(comm, report, variant.spec);
             check_time_step(comm, report, variant.spec);
+            check_elastic_constants(report, variant.spec, declared);
+            check_thermal(comm, report, variant.spec, declared);
           }
         catch (const std::exception &e)
           {

@@ -178,7 +178,8 @@ namespace pdtest
                              force.begin(),
                              with_energy ? energy.data() : nullptr,
                              *fields};
-      s.damage = damage.empty() ? nullptr : damage.data();
+      s.damage             = damage.empty() ? nullptr : damage.data();
+      s.temperature_change = temperature_change.empty() ? nullptr : temperature_change.data();
       return s;
     }
 
@@ -286,6 +287,7 @@ namespace pdtest
     std::unique_ptr<perideal::FieldStore>             fields;
     std::vector<std::unique_ptr<perideal::Material>>  materials; // by block
     perideal::Material                               *material; // block 0's
+    std::vector<double> temperature_change; // T - T_ref per local point; empty: none
     std::vector<std::vector<unsigned int>>            block_points;
     perideal::VectorType                              u, force;
     std::vector<double>                               energy;

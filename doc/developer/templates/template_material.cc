@@ -10,7 +10,13 @@
 // c0 follows from matching the energy of an isotropic expansion s = eps to the
 // continuum's 9/2 K eps^2: 1/4 c0 eps^2 int_0^delta (1 - r/delta) r 4 pi r^2 dr
 // = c0 eps^2 pi delta^4 / 20, so c0 = 90 K / (pi delta^4). Bond based, so
-// Poisson's ratio is 1/4 and G = 3K/5.
+// Poisson's ratio is 1/4 and G = 3K/5: one of K, E, G gives the moduli
+// (parse_bond_based_elastic_constants, elastic_constants.h).
+// Thermal strain (every model has it): with a temperature change dT = T -
+// T_ref per point (ModelState::temperature_change, nullptr without a
+// temperature field), s is the mechanical stretch s = (|y| - |xi|)/|xi| -
+// alpha dT_ij, dT_ij = (dT_i + dT_j)/2, in the force, the energy, the tangent
+// and the peak stretch.
 //
 // The state it keeps, to show point_fields() and bond_fields():
 // - template_bond_peak (per bond, history): the largest stretch the bond has
@@ -27,6 +33,7 @@
 // it cannot rot: the conformance suite checks it as "Template material", and
 // models.templates runs it with the template damage model.
 
+#include <perideal/material/elastic_constants.h>
 #include <perideal/material/material.h>
 
 #include <algorithm>
@@ -47,7 +54,9 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
+      declare_elastic_constants(prm);
+      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
+                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
     }
 
     // Read the keys; refuse bad values naming the key (path is
@@ -56,9 +65,9 @@ namespace perideal
     parse_parameters(ParameterHandler &prm, const std::string &path) override
     {
       rho = prm.get_double("Density");
-      K   = prm.get_double("Bulk modulus");
       require_positive(rho, path + "/Density");
-      require_positive(K, path + "/Bulk modulus");
+      K                 = parse_bond_based_elastic_constants(prm, path).K;
+      thermal_expansion = prm.get_double("Thermal expansion coefficient");
     }
 
     // The moduli: the report, the stable time step checks and the
@@ -106,7 +115,9 @@ namespace perideal
       // Compile-time variants keep the bond loop free of a branch per bond.
       with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
         with_flag(state.energy != nullptr, [&](auto energy) {
-          kernel<decltype(periodic)::value, decltype(energy)::value>(state, points);
+          with_flag(state.temperature_change && thermal_expansion != 0, [&](auto heated) {
+            kernel<decltype(periodic)::value, decltype(energy)::value, decltype(heated)::value>(state, points);
+          });
         });
       });
     }
@@ -165,7 +176,7 @@ namespace perideal
               const auto [r0, r] = bond_geometry(state.cloud, state.u, i, j, xi, y);
               const double cv = micromodulus(r0) * state.cloud.volume[j] * state.bonds.fraction(b) *
                                 state.cloud.volume[i];
-              add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r);
+              add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r, thermal_stretch(state, i, j));
             }
           rows.add(i, cols.data(), blocks.data(), n + 1);
         }
@@ -178,7 +189,16 @@ namespace perideal
     // loop, a speed-up only).
 
   private:
-    double rho = 0, K = 0;
+    double rho = 0, K = 0, thermal_expansion = 0;
+
+    /// alpha dT_ij of bond i-j, 0 without thermal strain.
+    double
+    thermal_stretch(const ModelState &state, const unsigned int i, const unsigned int j) const
+    {
+      if (!state.temperature_change)
+        return 0;
+      return thermal_expansion * 0.5 * (state.temperature_change[i] + state.temperature_change[j]);
+    }
 
     /// c(|xi|) = c0 (1 - |xi|/delta), c0 = 90 K / (pi delta^4).
     double
@@ -190,7 +210,7 @@ namespace perideal
     // The hot loop: flat arrays, no allocation, virtual call or MPI. Both
     // owners of a bond take its vectors from bond_vectors(), so they see the
     // same lengths to the last bit.
-    template <bool periodic, bool energy>
+    template <bool periodic, bool energy, bool heated>
     void
     kernel(const ModelState &state, const std::vector<unsigned int> &points) const
     {
@@ -212,7 +232,7 @@ namespace perideal
               bond_vectors<periodic>(X, state.u, j, origin, state.cloud.periodicity, e, y);
               const double r0 = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
               const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-              const double s  = (r - r0) / r0;
+              const double s  = (r - r0) / r0 - (heated ? thermal_stretch(state, i, j) : 0.0);
               // The history of every bond, broken ones too: the largest
               // stretch it has had, whatever broke it.
               peak_np1[b] = std::max(peak_n[b], s);
@@ -241,5 +261,6 @@ namespace perideal
   // test programs that compile this file, not into pd_app.
   PERIDEAL_REGISTER(Material, TemplateMaterial, "Template material",
                     "Template (doc/developer/templates): bond based, conical micromodulus "
-                    "c0 (1 - |xi|/delta), with a peak-stretch history. Keys: Density, Bulk modulus.")
+                    "c0 (1 - |xi|/delta), with a peak-stretch history. Keys: Density, one of Bulk modulus, "
+                    "Young's modulus, Shear modulus, Thermal expansion coefficient.")
 } // namespace perideal

@@ -78,11 +78,13 @@ namespace perideal
   /// volumes and the bond's intact share): A = cv d(s M)/dy = cv (M M^T / |xi|
   /// + s (I - M M^T) / |y|) is added to the owner's block 0 and subtracted
   /// from block k + 1 of the row's 3x3 blocks (TangentRows::add()).
+  /// @p thermal_stretch: the bond's free thermal stretch alpha dT_ij, taken
+  /// off s (thermal strain).
   inline void
   add_pair_bond_tangent(double *blocks, const std::size_t k, const double cv, const double (&y)[3], const double r0,
-                        const double r)
+                        const double r, const double thermal_stretch = 0)
   {
-    const double s = (r - r0) / r0;
+    const double s = (r - r0) / r0 - thermal_stretch;
     for (unsigned int p = 0; p < 3; ++p)
       for (unsigned int q = 0; q < 3; ++q)
         {
@@ -187,6 +189,9 @@ namespace perideal
     // N -> NP1 over dt, time-dependent fields (a temperature) read time.
     double time = 0;
     double dt   = 0;
+    // Temperature change T - T_ref per local point (owned + ghosts), nullptr
+    // when the scene has no temperature field (thermal strain).
+    const double *temperature_change = nullptr;
   };
 
   class Material

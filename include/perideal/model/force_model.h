@@ -5,6 +5,7 @@
 // and report uses: damage, material stages, ghost exchange, forces, the load
 // conditions' body force and the coupling's transfer to the FE nodes.
 
+#include <perideal/base/expression.h>
 #include <perideal/discretization/discretization.h>
 #include <perideal/damage/damage_model.h>
 #include <perideal/material/material.h>
@@ -110,6 +111,30 @@ namespace perideal
     {
       time = time_;
       dt   = dt_;
+      if (temperature_function && temperature_function->depends_on_time())
+        update_temperature();
+    }
+
+    /// The temperature field T(x, y, z, t) and T_ref (thermal strain,
+    /// doc/thermal.md): every evaluation then passes dT = T - T_ref at the
+    /// time of set_time() (ModelState::temperature_change). Without it none
+    /// is allocated. Call before setup().
+    void
+    set_temperature(std::unique_ptr<Expression> function, const double reference)
+    {
+      temperature_function  = std::move(function);
+      reference_temperature = reference;
+    }
+    /// The temperature T of local point @p i; only with a temperature field.
+    double
+    temperature(const unsigned int i) const
+    {
+      return temperature_change.local_element(i) + reference_temperature;
+    }
+    bool
+    has_temperature() const
+    {
+      return temperature_function != nullptr;
     }
 
     /// The step is accepted: every model's history becomes the state the
@@ -176,5 +201,12 @@ namespace perideal
     const std::vector<double>   *body_force = nullptr;
     Coupling                    *coupling   = nullptr;
     double                       time = 0, dt = 0; // set_time()
+    std::unique_ptr<Expression>  temperature_function; // null: no temperature field
+    double                       reference_temperature = 0;
+    VectorType                   temperature_change; // T - T_ref per local point, ghosted
+    /// dT at every owned point at the current time, then its ghosts.
+    /// Collective (a non-finite value stops every rank).
+    void
+    update_temperature();
   };
 } // namespace perideal

@@ -58,6 +58,13 @@ namespace perideal
     int    virtual_point_levels = -1; // -1: auto
   };
 
+  /// Temperature (thermal strain, doc/thermal.md): T(x, y, z, t) and T_ref.
+  struct TemperatureParameters
+  {
+    std::string function; // empty: no temperature field
+    double      reference = 0;
+  };
+
   struct Deck
   {
     Deck();
@@ -69,6 +76,7 @@ namespace perideal
     std::vector<Block>                             blocks;
     bool                                           has_continuum = false;
     CouplingParameters                             coupling;
+    TemperatureParameters                          temperature;
     std::vector<BoundaryCondition>                 conditions;
     std::vector<RegionCompute>                     computes;
     SolverParameters                               solver;
