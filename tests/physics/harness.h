@@ -179,6 +179,8 @@ namespace pdtest
                              with_energy ? energy.data() : nullptr,
                              *fields};
       s.damage = damage.empty() ? nullptr : damage.data();
+      s.time   = time;
+      s.dt     = dt;
       return s;
     }
 
@@ -290,6 +292,7 @@ namespace pdtest
     perideal::VectorType                              u, force;
     std::vector<double>                               energy;
     std::vector<double>                               damage; // continuous bond damage, or empty: none
+    double time = 0, dt = 0; // ModelState::time and dt of the evaluations (rate models)
     std::vector<unsigned int>                         points;
   };
 

@@ -187,6 +187,9 @@ namespace perideal
     // N -> NP1 over dt, time-dependent fields (a temperature) read time.
     double time = 0;
     double dt   = 0;
+    // Temperature change T - T_ref per local point (owned + ghosts), nullptr
+    // when the scene has no temperature field (thermal strain).
+    const double *temperature_change = nullptr;
   };
 
   class Material
