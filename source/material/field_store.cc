@@ -60,13 +60,15 @@ namespace perideal
     AssertThrow(field.components == 1 || field.components == 3 || field.components == 6 || field.components == 9,
                 ExcMessage("field '" + field.name + "': " + std::to_string(field.components) +
                            " components per point; a field has 1, 3, 6 or 9"));
+    AssertThrow(!field.dissipation || (field.use == FieldUse::history && field.components == 1),
+                ExcMessage("field '" + field.name + "': a dissipation field is a scalar history field"));
     AssertThrow(field.output_name.empty() || field.components == 1,
                 ExcMessage("field '" + field.name + "': only scalar fields are written as output"));
     const auto it = fields.find(field.name);
     if (it != fields.end())
       {
         const PointField &had = it->second.spec;
-        AssertThrow(had.use == field.use && had.components == field.components,
+        AssertThrow(had.use == field.use && had.components == field.components && had.dissipation == field.dissipation,
                     ExcMessage("two models declare the field '" + field.name + "' differently (" +
                                use_name(had.use) + ", " + std::to_string(had.components) + " components; " +
                                use_name(field.use) + ", " + std::to_string(field.components) +
@@ -148,6 +150,26 @@ namespace perideal
         e.old = e.now;
     for (auto &[name, e] : bond_fields)
       std::copy(e.now.begin(), e.now.end(), e.old.begin());
+  }
+
+  bool
+  FieldStore::tracks_dissipation() const
+  {
+    for (const auto &[name, e] : fields)
+      if (e.spec.dissipation)
+        return true;
+    return false;
+  }
+
+  double
+  FieldStore::dissipated_energy(const std::vector<double> &volume, const unsigned int n_owned) const
+  {
+    double sum = 0;
+    for (const auto &[name, e] : fields)
+      if (e.spec.dissipation)
+        for (unsigned int i = 0; i < n_owned; ++i)
+          sum += volume[i] * e.now.local_element(i);
+    return sum;
   }
 
   std::size_t

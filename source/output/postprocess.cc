@@ -127,6 +127,13 @@ namespace perideal
                                                     {"external_work", record.external_work},
                                                     {"broken_bonds", broken_bonds},
                                                     {"max_damage", max_damage}};
+    // Only a scene with a dissipating material gets the column.
+    if (model.field_store().tracks_dissipation())
+      {
+        record.material_dissipation =
+          Utilities::MPI::sum(model.field_store().dissipated_energy(cloud.volume, n), comm);
+        row.emplace_back("material_dissipation", record.material_dissipation);
+      }
     const ComputeData data = compute_data();
     for (const auto &compute : computes)
       row.emplace_back(compute.name, compute.evaluate(data, time, comm));
@@ -340,13 +347,18 @@ namespace perideal
             << (model.continuous_damage() ?
                   " (released by bond damage: each step's strain energy with the damage before it minus after)\n" :
                   " (released by broken bonds: their strain energy where they broke)\n");
+    const bool material_dissipation = model.field_store().tracks_dissipation();
+    if (material_dissipation)
+      pcout << "  material dissipation:   " << sci(record.material_dissipation, 6)
+            << " (plastic and viscous work of the materials, sum V_i D_i, at the last globals row)\n";
     if (e_ref > 0)
       pcout << "  energy balance error:   "
-            << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy - record.initial_energy - record.external_work) /
+            << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy +
+                    record.material_dissipation - record.initial_energy - record.external_work) /
                      e_ref,
                    3)
-            << (dissipation ? " (kinetic + strain + dissipated - initial - external work, relative)\n" :
-                              " (kinetic + strain - initial - external work, relative)\n");
+            << " (kinetic + strain" << (dissipation ? " + dissipated" : "")
+            << (material_dissipation ? " + material dissipation" : "") << " - initial - external work, relative)\n";
     pcout << "  warnings:               " << (record.warnings.empty() ? std::string("none") : std::to_string(record.warnings.size()))
           << "\n";
     for (const auto &w : record.warnings)

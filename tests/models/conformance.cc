@@ -122,7 +122,10 @@ namespace
       {"Bulk modulus", exact(K)},
       {"Shear modulus", exact(G)},
       {"Young's modulus", exact(9 * K * G / (3 * K + G))},
-      {"Poisson's ratio", exact((3 * K - 2 * G) / (2 * (3 * K + G)))}};
+      {"Poisson's ratio", exact((3 * K - 2 * G) / (2 * (3 * K + G)))},
+      // Plasticity: a yield stress far above every check's stresses (<~0.1),
+      // so the defaults variant is the elastic model.
+      {"Yield stress", "1000"}};
     return keys;
   }
 
@@ -171,7 +174,12 @@ namespace
   const std::map<std::string, std::vector<std::string>> &
   known_options()
   {
-    static const std::map<std::string, std::vector<std::string>> options = {{"Influence function", {"1 - r"}}};
+    static const std::map<std::string, std::vector<std::string>> options = {
+      {"Influence function", {"1 - r"}},
+      // Low enough that (b)'s objectivity state (|grad u| ~ 1e-2, von Mises
+      // stress ~ 0.04) yields, high enough that (c) (|H| ~ 1e-4) and (e)
+      // stay elastic, where their energy checks assume it.
+      {"Yield stress", {"0.005"}}};
     return options;
   }
 

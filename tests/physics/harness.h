@@ -180,6 +180,8 @@ namespace pdtest
                              *fields};
       s.damage             = damage.empty() ? nullptr : damage.data();
       s.temperature_change = temperature_change.empty() ? nullptr : temperature_change.data();
+      s.time               = time;
+      s.dt                 = dt;
       return s;
     }
 
@@ -292,6 +294,7 @@ namespace pdtest
     perideal::VectorType                              u, force;
     std::vector<double>                               energy;
     std::vector<double>                               damage; // continuous bond damage, or empty: none
+    double time = 0, dt = 0; // ModelState::time and dt of the evaluations (rate models)
     std::vector<unsigned int>                         points;
   };
 

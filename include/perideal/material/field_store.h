@@ -50,6 +50,11 @@ namespace perideal
     /// The name in Output/Variables (cell data of the field files; a scalar
     /// field only), empty if the field is internal.
     std::string output_name = "";
+    /// A history scalar that holds the energy the model has dissipated per
+    /// unit volume so far (plastic or viscous work): the postprocessing sums
+    /// V_i D_i into the globals column material_dissipation and into the
+    /// energy balance (FieldStore::dissipated_energy()).
+    bool dissipation = false;
   };
 
   /// A per-bond history value (a plastic stretch, a damage variable), one
@@ -100,6 +105,14 @@ namespace perideal
     }
     unsigned int
     components(const std::string &name) const;
+
+    /// True if some declared field is a dissipation field (PointField::dissipation).
+    bool
+    tracks_dissipation() const;
+    /// This rank's sum over its @p n_owned points of V_i D_i over every
+    /// dissipation field (their NP1 copies: after commit(), the accepted step's).
+    double
+    dissipated_energy(const std::vector<double> &volume, const unsigned int n_owned) const;
 
     /// Makes the ghost entries of every field of @p use current. Collective.
     void

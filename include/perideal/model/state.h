@@ -191,6 +191,9 @@ namespace perideal
     double       dt = 0, dt_stable = 0;
     double       external_work = 0, initial_energy = 0, last_strain_energy = 0, last_kinetic_energy = 0;
     double       dissipated_energy = 0; // released by broken bonds (ForceModel::released_energy)
+    // Dissipated by the materials (plastic, viscous work) up to the last
+    // globals row: FieldStore::dissipated_energy(), summed over ranks.
+    double       material_dissipation = 0;
     unsigned int shortened_steps   = 0; // Verlet steps shortened below the elastic step
     double       shortest_dt       = std::numeric_limits<double>::max();
     double       startup_memory    = 0; // resident bytes before the scene is read
