@@ -146,4 +146,20 @@ namespace perideal
                            rule));
     return {c.K, 0.6 * c.K};
   }
+
+  void
+  declare_thermal_expansion(ParameterHandler &prm)
+  {
+    prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
+                      "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
+  }
+
+  double
+  parse_thermal_expansion(ParameterHandler &prm, const std::string &path)
+  {
+    const double alpha = prm.get_double("Thermal expansion coefficient");
+    AssertThrow(std::isfinite(alpha), ExcMessage(path + "/Thermal expansion coefficient must be finite, not " +
+                                                 prm.get("Thermal expansion coefficient")));
+    return alpha;
+  }
 } // namespace perideal

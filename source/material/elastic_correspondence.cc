@@ -45,6 +45,7 @@
 // Stable time step: a Gershgorin bound of the linearized force at the
 // reference state (see stable_time_step()).
 
+#include <perideal/material/elastic_constants.h>
 #include <perideal/material/material.h>
 
 #include <deal.II/base/symmetric_tensor.h>
@@ -105,8 +106,7 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
-      prm.declare_entry("Shear modulus", "0", Patterns::Double(), "Shear modulus G.");
+      declare_elastic_constants(prm);
       prm.declare_entry("Strain measure", "Green-Lagrange", Patterns::Selection("Green-Lagrange|Small strain"),
                         "Green-Lagrange: St. Venant-Kirchhoff, S = lambda tr(E) I + 2 G E, E = (F^T F - I)/2, "
                         "P = F S. Small strain: corotational Hooke, F = R U, eps = U - I, sigma = R (lambda "
@@ -123,8 +123,7 @@ namespace perideal
                         "C >= 0 of Stabilization = Hourglass (Peridigm's examples use 0.02).");
       prm.declare_entry("Silling coefficient", "0.02", Patterns::Double(),
                         "C >= 0 of Stabilization = Silling.");
-      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
-                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
+      declare_thermal_expansion(prm);
     }
 
     void
@@ -132,23 +131,20 @@ namespace perideal
     {
       path = path_;
       rho  = prm.get_double("Density");
-      K    = prm.get_double("Bulk modulus");
-      G    = prm.get_double("Shear modulus");
       require_positive(rho, path + "/Density");
-      require_positive(K, path + "/Bulk modulus");
-      require_positive(G, path + "/Shear modulus");
+      const ElasticConstants moduli = parse_elastic_constants(prm, path);
+      K                             = moduli.K;
+      G                             = moduli.G;
       small_strain              = prm.get("Strain measure") == "Small strain";
       const std::string stab    = prm.get("Stabilization");
       stabilization             = stab == "Hourglass" ? 1 : stab == "Silling" ? 2 : 0;
       hourglass_coefficient     = prm.get_double("Hourglass coefficient");
       silling_coefficient       = prm.get_double("Silling coefficient");
-      thermal_expansion         = prm.get_double("Thermal expansion coefficient");
+      thermal_expansion         = parse_thermal_expansion(prm, path);
       AssertThrow(std::isfinite(hourglass_coefficient) && hourglass_coefficient >= 0,
                   ExcMessage(path + "/Hourglass coefficient must be >= 0, not " + prm.get("Hourglass coefficient")));
       AssertThrow(std::isfinite(silling_coefficient) && silling_coefficient >= 0,
                   ExcMessage(path + "/Silling coefficient must be >= 0, not " + prm.get("Silling coefficient")));
-      AssertThrow(std::isfinite(thermal_expansion),
-                  ExcMessage(path + "/Thermal expansion coefficient must be finite"));
     }
 
     double
@@ -165,6 +161,11 @@ namespace perideal
     shear_modulus() const override
     {
       return G;
+    }
+    double
+    thermal_expansion_coefficient() const override
+    {
+      return thermal_expansion;
     }
 
     std::vector<PointField>
@@ -433,7 +434,7 @@ namespace perideal
       double             *sigma    = state.fields.get("corr_cauchy").begin();
       double             *Wf       = state.fields.get("corr_energy").begin();
       double             *live     = stabilization != 0 ? state.fields.get("corr_live").begin() : nullptr;
-      const double       *dT       = thermal_expansion != 0 ? state.temperature_change : nullptr;
+      const double       *eps_T    = state.thermal_strain; // alpha dT per point, or nullptr
       for (const unsigned int i : points)
         {
           const BondOrigin origin(X, u, i);
@@ -481,7 +482,7 @@ namespace perideal
           double *F = Fs + 9 * i;
           multiply(N, Kinv, F);
           double P[9];
-          stress(F, dT ? 1 + thermal_expansion * dT[i] : 1.0, P, sigma + 9 * i, Wf[i]);
+          stress(F, eps_T ? 1 + eps_T[i] : 1.0, P, sigma + 9 * i, Wf[i]);
           multiply(P, Kinv, PK + 9 * i);
           if (live)
             live[i] = 1;
@@ -592,6 +593,7 @@ namespace perideal
                     "Non-ordinary state-based correspondence model: a nonlocal deformation gradient F = "
                     "(sum w Y (x) xi V) K^-1 and an elastic stress law (St. Venant-Kirchhoff or corotational "
                     "small strain), with hourglass or Silling (2017) stabilization of its zero-energy modes. "
-                    "Keys: Density, Bulk modulus, Shear modulus, Strain measure, Stabilization, Hourglass "
-                    "coefficient, Silling coefficient, Thermal expansion coefficient.")
+                    "Keys: Density, two of Bulk modulus, Shear modulus, Young's modulus, Poisson's ratio, "
+                    "Strain measure, Stabilization, Hourglass coefficient, Silling coefficient, Thermal "
+                    "expansion coefficient.")
 } // namespace perideal

@@ -28,15 +28,16 @@
 // extension of bond j->i, which lives on j's owner: every bond also keeps a
 // replica of the other end's e^dp, updated by the same formula from j's
 // ghosted dilatation and return factor s_j, so both copies agree bit for bit.
-// Thermal strain (shared_api.md): e = |y| - |xi| - a_T (dT_i + dT_j)/2 |xi|.
+// Thermal strain: e = |y| - |xi| - (eps_T,i + eps_T,j)/2 |xi| (ordinary_state.h).
 // Bond damage: binary (state.broken; a broken bond keeps its e^dp); no
-// continuous damage. Blocks of different horizons are refused. The analytic
-// tangent is not provided: the implicit solvers use finite differences.
+// continuous damage. Blocks of different horizons are refused. Tangent: the
+// consistent tangent of the radial return (add_tangent()), so Newton converges
+// quadratically through yield.
 
-#include <perideal/material/material.h>
+#include <perideal/material/elastic_constants.h>
+#include <perideal/material/ordinary_state.h>
 
 #include <cmath>
-#include <limits>
 
 namespace perideal
 {
@@ -49,35 +50,31 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
-      prm.declare_entry("Shear modulus", "0", Patterns::Double(), "Shear modulus G.");
+      declare_elastic_constants(prm);
       prm.declare_entry("Yield stress", "0", Patterns::Double(),
                         "Initial von Mises yield stress Y0 > 0 (Peridigm's 'Yield Stress').");
       prm.declare_entry("Hardening modulus", "0", Patterns::Double(),
                         "Linear isotropic hardening H >= 0: Y = Y0 + H eps_p, eps_p the equivalent plastic "
                         "strain (uniaxial stress: tangent modulus E H / (E + H)); 0: perfectly plastic "
                         "(Peridigm's 'Hardening Modulus' of 'Elastic Plastic Hardening').");
-      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
-                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
+      declare_thermal_expansion(prm);
     }
 
     void
     parse_parameters(ParameterHandler &prm, const std::string &path) override
     {
-      rho     = prm.get_double("Density");
-      K       = prm.get_double("Bulk modulus");
-      G       = prm.get_double("Shear modulus");
-      Y0      = prm.get_double("Yield stress");
-      H       = prm.get_double("Hardening modulus");
-      alpha_T = prm.get_double("Thermal expansion coefficient");
+      rho = prm.get_double("Density");
       require_positive(rho, path + "/Density");
-      require_positive(K, path + "/Bulk modulus");
-      require_positive(G, path + "/Shear modulus");
+      const ElasticConstants moduli = parse_elastic_constants(prm, path);
+      K                             = moduli.K;
+      G                             = moduli.G;
+      Y0                            = prm.get_double("Yield stress");
+      H                             = prm.get_double("Hardening modulus");
+      alpha_T                       = parse_thermal_expansion(prm, path);
       require_positive(Y0, path + "/Yield stress");
       AssertThrow(H >= 0 && std::isfinite(H),
                   ExcMessage(path + "/Hardening modulus must be >= 0 (0: perfectly plastic), got " +
                              prm.get("Hardening modulus")));
-      AssertThrow(std::isfinite(alpha_T), ExcMessage(path + "/Thermal expansion coefficient must be finite"));
       material_path = path;
     }
 
@@ -92,6 +89,11 @@ namespace perideal
       return K;
     }
     double
+    thermal_expansion_coefficient() const override
+    {
+      return alpha_T;
+    }
+    double
     shear_modulus() const override
     {
       return G;
@@ -100,14 +102,13 @@ namespace perideal
     std::vector<PointField>
     point_fields() const override
     {
-      return {{"eps_weighted_volume", FieldUse::constant},
-              {"eps_kappa", FieldUse::constant}, // 3K/m
-              {"eps_alpha", FieldUse::constant}, // 15G/m
-              {"eps_coupling", FieldUse::constant},
-              {"eps_dilatation", FieldUse::stage},
-              {"eps_scale", FieldUse::stage}, // the return factor s
-              {"eps_plastic_strain", FieldUse::history, 1, "Equivalent plastic strain"},
-              {"eps_dissipation", FieldUse::history, 1, "Plastic dissipation density", true}};
+      std::vector<PointField> fields = family.constant_fields();
+      fields.insert(fields.end(),
+                    {{"eps_dilatation", FieldUse::stage},
+                     {"eps_scale", FieldUse::stage}, // the return factor s
+                     {"eps_plastic_strain", FieldUse::history, 1, "Equivalent plastic strain"},
+                     {"eps_dissipation", FieldUse::history, 1, "Plastic dissipation density", true}});
+      return fields;
     }
 
     std::vector<BondField>
@@ -119,33 +120,7 @@ namespace perideal
     void
     initialize(const ModelState &state, const std::vector<unsigned int> &points) override
     {
-      AssertThrow(state.bonds.family.empty(),
-                  ExcMessage(material_path + ": the Elastic plastic model does not support blocks of different "
-                                             "horizons bonded to each other; give the blocks one horizon"));
-      const double *V = state.cloud.volume.data();
-      if (!state.bonds.volume_fraction.empty())
-        omega.assign(state.bonds.volume_fraction.begin(), state.bonds.volume_fraction.end());
-      VectorType &m     = state.fields.get("eps_weighted_volume");
-      VectorType &kappa = state.fields.get("eps_kappa");
-      VectorType &alpha = state.fields.get("eps_alpha");
-      VectorType &D     = state.fields.get("eps_coupling");
-      for (const unsigned int i : points)
-        {
-          double mi = 0, Ai = 0;
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const double       r0 = state.cloud.bond_vector(i, j).norm();
-              const double       w  = omega.empty() ? 1.0 : omega[b];
-              mi += w * r0 * r0 * V[j];
-              Ai += w * r0 * V[j];
-            }
-          const double inverse   = mi > 0 ? 1 / mi : 0.0;
-          m.local_element(i)     = mi;
-          kappa.local_element(i) = 3 * K * inverse;
-          alpha.local_element(i) = 15 * G * inverse;
-          D.local_element(i)     = std::abs(3 * K - 5 * G) * inverse * Ai * inverse;
-        }
+      family.initialize(state, points, K, G, material_path, "Elastic plastic");
     }
 
     void
@@ -172,70 +147,72 @@ namespace perideal
     double
     stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      // LPS's Gershgorin bound of the elastic tangent (lps.cc, beta = alpha,
-      // gamma = kappa - alpha/3): plastic flow only softens the response.
-      const double     *V     = state.cloud.volume.data();
-      const VectorType &alpha = state.fields.get("eps_alpha");
-      const VectorType &kappa = state.fields.get("eps_kappa");
-      const VectorType &m     = state.fields.get("eps_weighted_volume");
-      const VectorType &D     = state.fields.get("eps_coupling");
-      double            dt    = std::numeric_limits<double>::max();
+      // The elastic bound: plastic flow only softens the response.
+      return family.stable_time_step(state, points, rho);
+    }
+
+    bool
+    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+    {
+      // The consistent tangent of the radial return (ordinary_state.h): the
+      // deviatoric half is D_i(b) = alpha_i s_i eps_b, eps = e^d - e^dp_N,
+      // s_i = (3G Y_N / q + H) / (3G + H) on a yielding point (1 otherwise),
+      // q = alpha_i sqrt(m_i/5) n_i, n_i^2 = sum_c w eps_c^2 V_c, so
+      //   dD_i(b) = alpha_i s_i d eps_b + eta_i eps_b sum_c w eps_c V_c d eps_c,
+      //   eta_i = alpha_i^2 sqrt(m_i/5) (ds/dq) / n_i,  ds/dq = -3G Y_N / ((3G + H) q^2).
+      const double       *V      = state.cloud.volume.data();
+      const double       *m      = state.fields.get(family.weighted_volume).begin();
+      const double       *kappa  = state.fields.get(family.kappa).begin();
+      const double       *alpha  = state.fields.get(family.alpha).begin();
+      const double       *theta  = state.fields.get("eps_dilatation").begin();
+      const double       *scale  = state.fields.get("eps_scale").begin();
+      const double       *ep_N   = state.fields.old("eps_plastic_strain").begin();
+      const double       *edp_N  = state.fields.bond_old("eps_edp");
+      const double       *oth_N  = state.fields.bond_old("eps_edp_other");
+      const unsigned int  n_local = state.cloud.n_local();
+      std::vector<double> deviatoric(n_local), eta(n_local, 0.0);
+      for (unsigned int i = 0; i < n_local; ++i)
+        deviatoric[i] = alpha[i] * scale[i];
       for (const unsigned int i : points)
         {
-          double pair = 0, Ai = 0, neighbors = 0;
+          if (scale[i] == 1 || m[i] == 0)
+            continue;
+          double norm2 = 0; // as stage()
           for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
             {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const double       r0 = state.cloud.bond_vector(i, j).norm();
-              const double       w  = omega.empty() ? 1.0 : omega[b];
-              pair += (alpha.local_element(i) + alpha.local_element(j)) * w * V[j];
-              Ai += w * r0 * V[j];
-              neighbors += w * r0 * V[j] * D.local_element(j);
+              const unsigned int j = state.bonds.neighbor[b];
+              double             xi[3], y[3];
+              const auto [r0, r]   = bond_geometry(state.cloud, state.u, i, j, xi, y);
+              const double e       = r - r0 - OrdinaryState::thermal_extension(state, i, j, r0);
+              const double eps     = e - theta[i] * r0 / 3 - edp_N[b];
+              norm2 += OrdinaryState::bond_weight(state, b) * eps * eps * V[j];
             }
-          if (m.local_element(i) == 0)
-            continue;
-          const double gamma  = kappa.local_element(i) - alpha.local_element(i) / 3;
-          const double lambda = (2 * pair + 6 * std::abs(gamma) * Ai * Ai / m.local_element(i) + 6 * neighbors) / rho;
-          if (lambda > 0)
-            dt = std::min(dt, 2 / std::sqrt(lambda));
+          const double n     = std::sqrt(norm2);
+          const double q     = std::sqrt(m[i] / 5) * n * alpha[i];
+          const double Y_N   = Y0 + H * ep_N[i];
+          const double ds_dq = -3 * G * Y_N / ((3 * G + H) * q * q);
+          eta[i]             = alpha[i] * alpha[i] * std::sqrt(m[i] / 5) * ds_dq / n;
         }
-      return dt;
+      family.add_tangent(state, points, rows, theta, deviatoric.data(), eta.data(), edp_N,
+                         [&](const unsigned int i, const std::size_t b, const unsigned int j, const double e,
+                             const double r0) {
+                           return OrdinaryState::bond_weight(state, b) * (r0 * (kappa[i] * theta[i] + kappa[j] * theta[j]) +
+                                       deviatoric[i] * (e - theta[i] * r0 / 3 - edp_N[b]) +
+                                       deviatoric[j] * (e - theta[j] * r0 / 3 - oth_N[b]));
+                         });
+      return true;
     }
 
   private:
     double              rho = 0, K = 0, G = 0, Y0 = 0, H = 0, alpha_T = 0;
     std::string         material_path;
-    std::vector<double> omega; // beta_ij per bond, only with partial volumes
+    const OrdinaryState family{"eps_"};
 
-    /// Calls @p f with the compile-time variants of this state: per-bond
-    /// weights (partial volumes), periodic, binary damage, thermal strain.
     template <typename F>
     void
     variants(const ModelState &state, const F &f) const
     {
-      with_flag(!omega.empty(), [&](auto W) {
-        with_flag(state.cloud.periodicity.any(), [&](auto P) {
-          with_flag(state.broken != nullptr, [&](auto D) {
-            with_flag(state.temperature_change != nullptr && alpha_T != 0,
-                      [&](auto T) { f(W, P, D, T); });
-          });
-        });
-      });
-    }
-
-    /// Bond b = i->j: {|xi|, |y|, the mechanical extension e}; writes y.
-    template <bool periodic, bool thermal>
-    static void
-    bond(const ModelState &state, const BondOrigin &origin, const unsigned int i, const unsigned int j,
-         const double alpha_T, double (&y)[3], double &r0, double &r, double &e)
-    {
-      double ev[3];
-      bond_vectors<periodic>(state.cloud.X.data(), state.u, j, origin, state.cloud.periodicity, ev, y);
-      r0 = std::sqrt(ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2]);
-      r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-      e  = r - r0;
-      if constexpr (thermal)
-        e -= alpha_T * (0.5 * (state.temperature_change[i] + state.temperature_change[j])) * r0;
+      OrdinaryState::variants(state, f);
     }
 
     /// The dilatation, the return factor s and the point history of each point.
@@ -246,8 +223,8 @@ namespace perideal
       const double       *V        = state.cloud.volume.data();
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
-      const double       *m        = state.fields.get("eps_weighted_volume").begin();
-      const double       *alpha    = state.fields.get("eps_alpha").begin();
+      const double       *m        = state.fields.get(family.weighted_volume).begin();
+      const double       *alpha    = state.fields.get(family.alpha).begin();
       const double       *edp_N    = state.fields.bond_old("eps_edp");
       const double       *ep_N     = state.fields.old("eps_plastic_strain").begin();
       const double       *D_N      = state.fields.old("eps_dissipation").begin();
@@ -268,17 +245,17 @@ namespace perideal
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               double y[3], r0, r, e;
-              bond<periodic, thermal>(state, origin, i, neighbor[b], alpha_T, y, r0, r, e);
-              sum += weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
+              OrdinaryState::bond<periodic, thermal>(state, origin, i, neighbor[b], y, r0, r, e);
+              sum += OrdinaryState::weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
             }
           const double th = 3 * sum / m[i];
           double       norm2 = 0; // ||e^d - e^dp_N||^2
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               double y[3], r0, r, e;
-              bond<periodic, thermal>(state, origin, i, neighbor[b], alpha_T, y, r0, r, e);
+              OrdinaryState::bond<periodic, thermal>(state, origin, i, neighbor[b], y, r0, r, e);
               const double ed = e - th * r0 / 3 - edp_N[b];
-              norm2 += weight<weighted, damaged>(state, b) * ed * ed * V[neighbor[b]];
+              norm2 += OrdinaryState::weight<weighted, damaged>(state, b) * ed * ed * V[neighbor[b]];
             }
           theta[i]          = th;
           const double q_tr = std::sqrt(m[i] / 5 * norm2) * alpha[i];
@@ -293,16 +270,6 @@ namespace perideal
         }
     }
 
-    template <bool weighted, bool damaged>
-    double
-    weight(const ModelState &state, const std::size_t b) const
-    {
-      double w = weighted ? omega[b] : 1.0;
-      if constexpr (damaged)
-        w *= 1.0 - state.broken[b];
-      return w;
-    }
-
     template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const
@@ -310,8 +277,8 @@ namespace perideal
       const double       *V         = state.cloud.volume.data();
       const std::size_t  *offsets   = state.bonds.offsets.data();
       const unsigned int *neighbor  = state.bonds.neighbor.data();
-      const double       *kappa     = state.fields.get("eps_kappa").begin();
-      const double       *alpha     = state.fields.get("eps_alpha").begin();
+      const double       *kappa     = state.fields.get(family.kappa).begin();
+      const double       *alpha     = state.fields.get(family.alpha).begin();
       const double       *theta     = state.fields.get("eps_dilatation").begin();
       const double       *scale     = state.fields.get("eps_scale").begin();
       const double       *edp_N     = state.fields.bond_old("eps_edp");
@@ -328,7 +295,7 @@ namespace perideal
             {
               const unsigned int j = neighbor[b];
               double             y[3], r0, r, e;
-              bond<periodic, thermal>(state, origin, i, j, alpha_T, y, r0, r, e);
+              OrdinaryState::bond<periodic, thermal>(state, origin, i, j, y, r0, r, e);
               // A broken bond keeps its plastic extensions.
               const double keep = damaged ? 1.0 - state.broken[b] : 1.0;
               const double edi  = e - ti * r0 / 3;
@@ -337,7 +304,7 @@ namespace perideal
               const double pj   = other_N[b] + keep * (1 - scale[j]) * (edj - other_N[b]);
               edp[b]            = pi;
               other[b]          = pj;
-              const double w    = weight<weighted, damaged>(state, b);
+              const double w    = OrdinaryState::weight<weighted, damaged>(state, b);
               const double t    = w * (r0 * (ki + kappa[j] * theta[j]) + ai * (edi - pi) + alpha[j] * (edj - pj));
               const double k    = t * V[j] / r;
               fx += k * y[0];
@@ -358,6 +325,6 @@ namespace perideal
   PERIDEAL_REGISTER(Material, ElasticPlastic, "Elastic plastic",
                     "Mitchell's ordinary state-based elastic-plastic solid: LPS (omega = 1) with a von Mises "
                     "yield of the deviatoric force state, radial return, linear isotropic hardening "
-                    "(Peridigm's 'Elastic Plastic' and 'Elastic Plastic Hardening'). Keys: Density, Bulk "
-                    "modulus, Shear modulus, Yield stress, Hardening modulus, Thermal expansion coefficient.")
+                    "(Peridigm's 'Elastic Plastic' and 'Elastic Plastic Hardening'). Keys: Density, two of "
+                    "Bulk modulus, Shear modulus, Young's modulus, Poisson's ratio, Yield stress, Hardening modulus, Thermal expansion coefficient.")
 } // namespace perideal

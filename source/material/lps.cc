@@ -21,12 +21,13 @@
 // + beta_j e], omega_i = 0 if j is not in F(i), omega_j = omega(|xi|/delta_j)
 // (the owner's influence function at the other block's horizon) or 0 if i is
 // not in F(j); both ends see the same sum, so the bond acts on both.
-// Thermal strain: with a temperature change dT (T - T_ref) per point, every
-// e above is the mechanical extension e = |y| - |xi| - alpha dT_ij |xi|,
-// dT_ij = (dT_i + dT_j)/2 (the same for both ends): the dilatation, the
-// deviatoric part, the energy and the tangent (whose d e / d y is unchanged;
-// h below takes the mechanical e) all see it.
-// same with the owner's dT.
+// Thermal strain: with the free thermal strain eps_T = alpha dT per point
+// (ModelState::thermal_strain, dT = T - T_ref, alpha of the point's own
+// material), every e above is the mechanical extension e = |y| - |xi| -
+// (eps_T,i + eps_T,j)/2 |xi| (the same for both ends, also across blocks of
+// different alpha): the dilatation, the deviatoric part, the energy and the
+// tangent (whose d e / d y is unchanged; h below takes the mechanical e) all
+// see it.
 // The moduli: any two of K, G, E, nu (elastic_constants.h).
 // Surface correction (optional; Le & Bobaru, Comput. Mech. 61, 2018, energy
 // method): under pure shear u = gamma/2 (xi_q e_p + xi_p e_q) the deviatoric
@@ -54,8 +55,7 @@ namespace perideal
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
       declare_elastic_constants(prm);
-      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
-                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
+      declare_thermal_expansion(prm);
       prm.declare_entry("Influence function", "1", Patterns::Anything(),
                         "omega as a muparser expression in r = |xi|/horizon, e.g. "
                         "'1', '1/r', 'exp(-r*r)'. Non-constant functions are "
@@ -77,7 +77,7 @@ namespace perideal
       const ElasticConstants moduli = parse_elastic_constants(prm, path);
       K                 = moduli.K;
       G                 = moduli.G;
-      thermal_expansion = prm.get_double("Thermal expansion coefficient");
+      thermal_expansion = parse_thermal_expansion(prm, path);
       surface_correction = prm.get("Surface correction") == "Energy";
       influence = std::make_unique<Expression>(prm.get("Influence function"),
                                                path + "/Influence function",
@@ -102,6 +102,11 @@ namespace perideal
     bulk_modulus() const override
     {
       return K;
+    }
+    double
+    thermal_expansion_coefficient() const override
+    {
+      return thermal_expansion;
     }
     double
     shear_modulus() const override
@@ -434,14 +439,14 @@ namespace perideal
     bool
     thermal(const ModelState &state) const
     {
-      return state.temperature_change && thermal_expansion != 0;
+      return state.thermal_strain != nullptr;
     }
-    /// alpha dT_ij |xi| of bond i-j, 0 without thermal strain (tangent).
+    /// The free thermal extension of bond i-j, 0 without thermal strain (tangent).
     double
     thermal_extension(const ModelState &state, const unsigned int i, const unsigned int j, const double r0) const
     {
       return thermal(state) ?
-               thermal_expansion * 0.5 * (state.temperature_change[i] + state.temperature_change[j]) * r0 :
+               0.5 * (state.thermal_strain[i] + state.thermal_strain[j]) * r0 :
                0.0;
     }
 
@@ -464,8 +469,7 @@ namespace perideal
       const double       *gamma    = state.fields.get("lps_gamma").begin();
       double             *theta    = state.fields.get("dilatation").begin();
       double             *alpha    = state.fields.get("lps_alpha").begin();
-      const double       *dT       = state.temperature_change; // heated only
-      const double        half_a   = 0.5 * thermal_expansion;
+      const double       *eps_T    = state.thermal_strain; // heated only
       std::size_t         newly_broken = 0;
       for (const unsigned int i : points)
         {
@@ -489,7 +493,7 @@ namespace perideal
                 w *= 1.0 - d[b];
               else if (mode != BondDamage::none)
                 w *= 1.0 - damage[b];
-              const double ext = heated ? r - r0 - half_a * (dT[i] + dT[j]) * r0 : r - r0;
+              const double ext = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
               sum += w * r0 * ext * V[j];
             }
           theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
@@ -539,8 +543,7 @@ namespace perideal
       const double       *m        = state.fields.get("weighted_volume").begin();
       const double       *gamma    = state.fields.get("lps_gamma").begin();
       double             *f        = state.force;
-      const double       *dT       = state.temperature_change; // heated only
-      const double        half_a   = 0.5 * thermal_expansion;
+      const double       *eps_T    = state.thermal_strain; // heated only
       for (const unsigned int i : points)
         {
           const BondOrigin origin(X, u, i);
@@ -556,7 +559,7 @@ namespace perideal
               const double ex = ev[0], ey = ev[1], ez = ev[2], dx = y[0], dy = y[1], dz = y[2];
               const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
               const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
-              const double       e  = heated ? r - r0 - half_a * (dT[i] + dT[j]) * r0 : r - r0;
+              const double       e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
               double             w  = weighted ? w_bond[b] : omega0;
               double             w2 = two_halves ? w_other[b] : 0.0;
               if (mode != BondDamage::none)

@@ -2,10 +2,11 @@
 // Bond Based"). Pairwise force density on point i from bond i-j:
 //   f = c s (1 - d) V_j M,   s = (|y_j - y_i| - |xi|) / |xi|,
 //   c = 18 K / (pi delta^4),  M = (y_j - y_i) / |y_j - y_i|,
-// Thermal strain: with a temperature change dT (T - T_ref) per point, the
-// bond's stretch is the mechanical one, s = (|y| - |xi|)/|xi| - alpha dT_ij,
-// dT_ij = (dT_i + dT_j)/2 (the same for both ends), in the force, the energy
-// and the tangent.
+// Thermal strain: with the free thermal strain eps_T = alpha dT per point
+// (ModelState::thermal_strain, dT = T - T_ref, alpha of the point's own
+// material), the bond's stretch is the mechanical one, s = (|y| - |xi|)/|xi|
+// - (eps_T,i + eps_T,j)/2 (the same for both ends, also across blocks of
+// different alpha), in the force, the energy and the tangent.
 // d the bond damage: 0 or 1 (binary damage models), or in [0, 1] (continuous
 // ones; the energy and the tangent scale by 1 - d too: the secant at fixed d).
 // Poisson's ratio is 1/4 by construction, so G = 3K/5: the moduli are one of
@@ -41,8 +42,7 @@ namespace perideal
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
       declare_elastic_constants(prm);
-      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
-                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
+      declare_thermal_expansion(prm);
       prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
                         "Energy: scale each point's micromodulus by g = pi delta^4 / sum_j |xi| V_j, the "
                         "continuum's over its family's strain energy density under an isotropic expansion "
@@ -57,7 +57,7 @@ namespace perideal
     {
       rho = prm.get_double("Density");
       K   = parse_bond_based_elastic_constants(prm, path).K;
-      thermal_expansion  = prm.get_double("Thermal expansion coefficient");
+      thermal_expansion  = parse_thermal_expansion(prm, path);
       surface_correction = prm.get("Surface correction") == "Energy";
       require_positive(rho, path + "/Density");
     }
@@ -71,6 +71,11 @@ namespace perideal
     bulk_modulus() const override
     {
       return K;
+    }
+    double
+    thermal_expansion_coefficient() const override
+    {
+      return thermal_expansion;
     }
     double
     shear_modulus() const override
@@ -222,13 +227,13 @@ namespace perideal
     bool
     thermal(const ModelState &state) const
     {
-      return state.temperature_change && thermal_expansion != 0;
+      return state.thermal_strain != nullptr;
     }
-    /// alpha dT_ij of bond i-j, 0 without thermal strain (set-up and tangent).
+    /// The free thermal stretch of bond i-j, the mean of its ends' (set-up and tangent).
     double
     thermal_stretch(const ModelState &state, const unsigned int i, const unsigned int j) const
     {
-      return thermal(state) ? thermal_expansion * 0.5 * (state.temperature_change[i] + state.temperature_change[j]) : 0.0;
+      return thermal(state) ? 0.5 * (state.thermal_strain[i] + state.thermal_strain[j]) : 0.0;
     }
 
     /// sum over the bonds b = i->j of owned point @p i of f(b, j, |xi_ij|,
@@ -318,8 +323,7 @@ namespace perideal
       const float        *beta   = state.bonds.volume_fraction.data();
       const std::uint8_t *family = state.bonds.family.data();
       double             *f      = state.force;
-      const double       *dT     = state.temperature_change; // heated only
-      const double        half_alpha = 0.5 * thermal_expansion;
+      const double       *eps_T  = state.thermal_strain; // heated only
       std::size_t         newly_broken = 0;
 
       for (const unsigned int i : points)
@@ -339,7 +343,7 @@ namespace perideal
                 newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
               const double r0     = std::sqrt(r0sq);
               const double r      = std::sqrt(rsq);
-              const double s      = heated ? (r - r0) / r0 - half_alpha * (dT[i] + dT[j]) : (r - r0) / r0;
+              const double s      = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
               const double cij    = uniform_c ? c_own :
                                     halves    ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
                                                     (family[b] & Bonds::other_half ? c[j] : 0.0)) :

@@ -23,14 +23,15 @@
 // "lambda_i". The force on i needs j's half, whose e^b and e^d_N of bond j->i
 // live on j's owner: every bond keeps replicas, updated by the same formula
 // from j's ghosted dilatation, so both copies agree bit for bit.
-// Thermal strain (shared_api.md): e = |y| - |xi| - a_T (dT_i + dT_j)/2 |xi|.
+// Thermal strain: e = |y| - |xi| - (eps_T,i + eps_T,j)/2 |xi| (ordinary_state.h).
 // Bond damage: binary (state.broken); blocks of different horizons are
-// refused. No analytic tangent: the implicit solvers use finite differences.
+// refused. Tangent: analytic (add_tangent(); LPS's with the step's relaxed
+// deviatoric modulus), so Newton converges quadratically.
 
-#include <perideal/material/material.h>
+#include <perideal/material/elastic_constants.h>
+#include <perideal/material/ordinary_state.h>
 
 #include <cmath>
-#include <limits>
 
 namespace perideal
 {
@@ -43,34 +44,29 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      prm.declare_entry("Bulk modulus", "0", Patterns::Double(), "Bulk modulus K.");
-      prm.declare_entry("Shear modulus", "0", Patterns::Double(),
-                        "Instantaneous shear modulus G (the deviatoric response at t = 0+).");
+      declare_elastic_constants(prm); // G, E, nu: the instantaneous ones (t = 0+)
       prm.declare_entry("Relaxation time", "1", Patterns::Double(),
                         "tau_b > 0 of the Maxwell element (Peridigm's 'tau b').");
       prm.declare_entry("Viscous fraction", "0.5", Patterns::Double(),
                         "lambda_i in [0, 1]: the share of G that relaxes; the long-time shear modulus is "
                         "(1 - lambda_i) G (Peridigm's 'lambda_i').");
-      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
-                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
+      declare_thermal_expansion(prm);
     }
 
     void
     parse_parameters(ParameterHandler &prm, const std::string &path) override
     {
-      rho      = prm.get_double("Density");
-      K        = prm.get_double("Bulk modulus");
-      G        = prm.get_double("Shear modulus");
-      tau      = prm.get_double("Relaxation time");
-      lambda_i = prm.get_double("Viscous fraction");
-      alpha_T  = prm.get_double("Thermal expansion coefficient");
+      rho = prm.get_double("Density");
       require_positive(rho, path + "/Density");
-      require_positive(K, path + "/Bulk modulus");
-      require_positive(G, path + "/Shear modulus");
+      const ElasticConstants moduli = parse_elastic_constants(prm, path);
+      K                             = moduli.K;
+      G                             = moduli.G;
+      tau                           = prm.get_double("Relaxation time");
+      lambda_i                      = prm.get_double("Viscous fraction");
+      alpha_T                       = parse_thermal_expansion(prm, path);
       require_positive(tau, path + "/Relaxation time");
       AssertThrow(lambda_i >= 0 && lambda_i <= 1,
                   ExcMessage(path + "/Viscous fraction must be in [0, 1], got " + prm.get("Viscous fraction")));
-      AssertThrow(std::isfinite(alpha_T), ExcMessage(path + "/Thermal expansion coefficient must be finite"));
       material_path = path;
     }
 
@@ -85,6 +81,11 @@ namespace perideal
       return K;
     }
     double
+    thermal_expansion_coefficient() const override
+    {
+      return alpha_T;
+    }
+    double
     shear_modulus() const override
     {
       return G;
@@ -93,12 +94,11 @@ namespace perideal
     std::vector<PointField>
     point_fields() const override
     {
-      return {{"ves_weighted_volume", FieldUse::constant},
-              {"ves_kappa", FieldUse::constant}, // 3K/m
-              {"ves_alpha", FieldUse::constant}, // 15G/m
-              {"ves_coupling", FieldUse::constant},
-              {"ves_dilatation", FieldUse::stage},
-              {"ves_dissipation", FieldUse::history, 1, "Viscous dissipation density", true}};
+      std::vector<PointField> fields = family.constant_fields();
+      fields.insert(fields.end(),
+                    {{"ves_dilatation", FieldUse::stage},
+                     {"ves_dissipation", FieldUse::history, 1, "Viscous dissipation density", true}});
+      return fields;
     }
 
     std::vector<BondField>
@@ -111,33 +111,7 @@ namespace perideal
     void
     initialize(const ModelState &state, const std::vector<unsigned int> &points) override
     {
-      AssertThrow(state.bonds.family.empty(),
-                  ExcMessage(material_path + ": the Viscoelastic model does not support blocks of different "
-                                             "horizons bonded to each other; give the blocks one horizon"));
-      const double *V = state.cloud.volume.data();
-      if (!state.bonds.volume_fraction.empty())
-        omega.assign(state.bonds.volume_fraction.begin(), state.bonds.volume_fraction.end());
-      VectorType &m     = state.fields.get("ves_weighted_volume");
-      VectorType &kappa = state.fields.get("ves_kappa");
-      VectorType &alpha = state.fields.get("ves_alpha");
-      VectorType &D     = state.fields.get("ves_coupling");
-      for (const unsigned int i : points)
-        {
-          double mi = 0, Ai = 0;
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const double       r0 = state.cloud.bond_vector(i, j).norm();
-              const double       w  = omega.empty() ? 1.0 : omega[b];
-              mi += w * r0 * r0 * V[j];
-              Ai += w * r0 * V[j];
-            }
-          const double inverse   = mi > 0 ? 1 / mi : 0.0;
-          m.local_element(i)     = mi;
-          kappa.local_element(i) = 3 * K * inverse;
-          alpha.local_element(i) = 15 * G * inverse;
-          D.local_element(i)     = std::abs(3 * K - 5 * G) * inverse * Ai * inverse;
-        }
+      family.initialize(state, points, K, G, material_path, "Viscoelastic");
     }
 
     void
@@ -164,80 +138,53 @@ namespace perideal
     double
     stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      // LPS's Gershgorin bound (lps.cc) with the instantaneous moduli: the
-      // stiffest response, the dashpot's spring unrelaxed.
-      const double     *V     = state.cloud.volume.data();
-      const VectorType &alpha = state.fields.get("ves_alpha");
-      const VectorType &kappa = state.fields.get("ves_kappa");
-      const VectorType &m     = state.fields.get("ves_weighted_volume");
-      const VectorType &D     = state.fields.get("ves_coupling");
-      double            dt    = std::numeric_limits<double>::max();
-      for (const unsigned int i : points)
-        {
-          double pair = 0, Ai = 0, neighbors = 0;
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const double       r0 = state.cloud.bond_vector(i, j).norm();
-              const double       w  = omega.empty() ? 1.0 : omega[b];
-              pair += (alpha.local_element(i) + alpha.local_element(j)) * w * V[j];
-              Ai += w * r0 * V[j];
-              neighbors += w * r0 * V[j] * D.local_element(j);
-            }
-          if (m.local_element(i) == 0)
-            continue;
-          const double gamma  = kappa.local_element(i) - alpha.local_element(i) / 3;
-          const double lambda = (2 * pair + 6 * std::abs(gamma) * Ai * Ai / m.local_element(i) + 6 * neighbors) / rho;
-          if (lambda > 0)
-            dt = std::min(dt, 2 / std::sqrt(lambda));
-        }
-      return dt;
+      // The instantaneous moduli: the stiffest response, the dashpot's spring unrelaxed.
+      return family.stable_time_step(state, points, rho);
+    }
+
+    bool
+    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+    {
+      // e^b_NP1 moves with e^d by beta (the step's integration weight), so the
+      // deviatoric half alpha_i (e^d - lambda_i e^b) has the modulus alpha_i
+      // (1 - lambda_i beta): LPS's tangent with it (ordinary_state.h).
+      const double       *kappa   = state.fields.get(family.kappa).begin();
+      const double       *alpha   = state.fields.get(family.alpha).begin();
+      const double       *theta   = state.fields.get("ves_dilatation").begin();
+      const double       *ed_N    = state.fields.bond_old("ves_ed");
+      const double       *eb_N    = state.fields.bond_old("ves_eb");
+      const double       *edo_N   = state.fields.bond_old("ves_ed_other");
+      const double       *ebo_N   = state.fields.bond_old("ves_eb_other");
+      const double        dt      = state.dt;
+      const double        decay   = dt > 0 ? std::exp(-dt / tau) : 1.0;
+      const double        beta    = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
+      const unsigned int  n_local = state.cloud.n_local();
+      std::vector<double> deviatoric(n_local);
+      for (unsigned int i = 0; i < n_local; ++i)
+        deviatoric[i] = alpha[i] * (1 - lambda_i * beta);
+      family.add_tangent(state, points, rows, theta, deviatoric.data(), nullptr, nullptr,
+                         [&](const unsigned int i, const std::size_t b, const unsigned int j, const double e,
+                             const double r0) {
+                           const double edi = e - theta[i] * r0 / 3, edj = e - theta[j] * r0 / 3;
+                           const double ebi = eb_N[b] * decay + ed_N[b] * (1 - decay) + beta * (edi - ed_N[b]);
+                           const double ebj = ebo_N[b] * decay + edo_N[b] * (1 - decay) + beta * (edj - edo_N[b]);
+                           return OrdinaryState::bond_weight(state, b) *
+                                  (r0 * (kappa[i] * theta[i] + kappa[j] * theta[j]) + alpha[i] * (edi - lambda_i * ebi) +
+                                   alpha[j] * (edj - lambda_i * ebj));
+                         });
+      return true;
     }
 
   private:
     double              rho = 0, K = 0, G = 0, tau = 1, lambda_i = 0.5, alpha_T = 0;
     std::string         material_path;
-    std::vector<double> omega; // beta_ij per bond, only with partial volumes
+    const OrdinaryState family{"ves_"};
 
-    /// Calls @p f with the compile-time variants of this state: per-bond
-    /// weights (partial volumes), periodic, binary damage, thermal strain.
     template <typename F>
     void
     variants(const ModelState &state, const F &f) const
     {
-      with_flag(!omega.empty(), [&](auto W) {
-        with_flag(state.cloud.periodicity.any(), [&](auto P) {
-          with_flag(state.broken != nullptr, [&](auto D) {
-            with_flag(state.temperature_change != nullptr && alpha_T != 0,
-                      [&](auto T) { f(W, P, D, T); });
-          });
-        });
-      });
-    }
-
-    /// Bond b = i->j: |xi|, |y|, the mechanical extension e; writes y.
-    template <bool periodic, bool thermal>
-    static void
-    bond(const ModelState &state, const BondOrigin &origin, const unsigned int i, const unsigned int j,
-         const double alpha_T, double (&y)[3], double &r0, double &r, double &e)
-    {
-      double ev[3];
-      bond_vectors<periodic>(state.cloud.X.data(), state.u, j, origin, state.cloud.periodicity, ev, y);
-      r0 = std::sqrt(ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2]);
-      r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-      e  = r - r0;
-      if constexpr (thermal)
-        e -= alpha_T * (0.5 * (state.temperature_change[i] + state.temperature_change[j])) * r0;
-    }
-
-    template <bool weighted, bool damaged>
-    double
-    weight(const ModelState &state, const std::size_t b) const
-    {
-      double w = weighted ? omega[b] : 1.0;
-      if constexpr (damaged)
-        w *= 1.0 - state.broken[b];
-      return w;
+      OrdinaryState::variants(state, f);
     }
 
     template <bool weighted, bool periodic, bool damaged, bool thermal>
@@ -247,7 +194,7 @@ namespace perideal
       const double       *V        = state.cloud.volume.data();
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
-      const double       *m        = state.fields.get("ves_weighted_volume").begin();
+      const double       *m        = state.fields.get(family.weighted_volume).begin();
       double             *theta    = state.fields.get("ves_dilatation").begin();
       for (const unsigned int i : points)
         {
@@ -256,8 +203,8 @@ namespace perideal
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
               double y[3], r0, r, e;
-              bond<periodic, thermal>(state, origin, i, neighbor[b], alpha_T, y, r0, r, e);
-              sum += weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
+              OrdinaryState::bond<periodic, thermal>(state, origin, i, neighbor[b], y, r0, r, e);
+              sum += OrdinaryState::weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
             }
           theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
         }
@@ -270,8 +217,8 @@ namespace perideal
       const double       *V        = state.cloud.volume.data();
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
-      const double       *kappa    = state.fields.get("ves_kappa").begin();
-      const double       *alpha    = state.fields.get("ves_alpha").begin();
+      const double       *kappa    = state.fields.get(family.kappa).begin();
+      const double       *alpha    = state.fields.get(family.alpha).begin();
       const double       *theta    = state.fields.get("ves_dilatation").begin();
       const double       *D_N      = state.fields.old("ves_dissipation").begin();
       double             *Dv       = state.fields.get("ves_dissipation").begin();
@@ -298,7 +245,7 @@ namespace perideal
             {
               const unsigned int j = neighbor[b];
               double             y[3], r0, r, e;
-              bond<periodic, thermal>(state, origin, i, j, alpha_T, y, r0, r, e);
+              OrdinaryState::bond<periodic, thermal>(state, origin, i, j, y, r0, r, e);
               const double edi = e - ti * r0 / 3;
               const double edj = e - theta[j] * r0 / 3;
               const double ebi = eb_N[b] * decay + ed_N[b] * (1 - decay) + beta * (edi - ed_N[b]);
@@ -307,7 +254,7 @@ namespace perideal
               eb_NP1[b]        = ebi;
               edo_NP1[b]       = edj;
               ebo_NP1[b]       = ebj;
-              const double w   = weight<weighted, damaged>(state, b);
+              const double w   = OrdinaryState::weight<weighted, damaged>(state, b);
               const double t   = w * (r0 * (ki + kappa[j] * theta[j]) + ai * (edi - lambda_i * ebi) +
                                     alpha[j] * (edj - lambda_i * ebj));
               const double k   = t * V[j] / r;
@@ -333,6 +280,6 @@ namespace perideal
   PERIDEAL_REGISTER(Material, Viscoelastic, "Viscoelastic",
                     "Mitchell's ordinary state-based viscoelastic solid: LPS (omega = 1) with an elastic "
                     "dilatation and a standard-linear-solid deviatoric part (Peridigm's 'Viscoelastic'). "
-                    "Keys: Density, Bulk modulus, Shear modulus, Relaxation time, Viscous fraction, Thermal "
-                    "expansion coefficient.")
+                    "Keys: Density, two of Bulk modulus, Shear modulus, Young's modulus, Poisson's ratio (the "
+                    "instantaneous ones), Relaxation time, Viscous fraction, Thermal expansion coefficient.")
 } // namespace perideal

@@ -185,6 +185,7 @@ namespace perideal
     if (temperature_function)
       {
         temperature_change.reinit(cloud.scalar_partitioner);
+        thermal_strain.reinit(cloud.scalar_partitioner);
         update_temperature();
       }
 
@@ -400,7 +401,7 @@ namespace perideal
     s.damage     = continuous[k] ? damage.data() : nullptr;
     s.time       = time;
     s.dt         = dt;
-    s.temperature_change = temperature_function ? temperature_change.begin() : nullptr;
+    s.thermal_strain = temperature_function ? thermal_strain.begin() : nullptr;
     return s;
   }
 
@@ -408,10 +409,16 @@ namespace perideal
   ForceModel::update_temperature()
   {
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      temperature_change.local_element(i) =
-        temperature_function->value(cloud.position(i), time, cloud.hash(i)) - reference_temperature;
+      {
+        const double dT = temperature_function->value(cloud.position(i), time, cloud.hash(i)) - reference_temperature;
+        temperature_change.local_element(i) = dT;
+        // Continuum blocks ignore the temperature (doc/thermal.md).
+        const Material *material            = blocks[cloud.block[i]].material.get();
+        thermal_strain.local_element(i)     = material ? material->thermal_expansion_coefficient() * dT : 0.0;
+      }
     check_finite({temperature_function.get()}, comm);
     temperature_change.update_ghost_values();
+    thermal_strain.update_ghost_values();
   }
 
   std::size_t

@@ -48,7 +48,8 @@
 //     differences of the force (Tangent::add_finite_differences, epsilon =
 //     1e-6 h) on a random state of 5% of the spacing (the geometric
 //     stiffness matters), box 6x4x4, horizon 2.015 h: max |K - K_fd| / max
-//     |K| below 1e-6 (truncation ~1e-12, round-off ~1e-9). Without an
+//     |K| below 1e-6 (truncation ~1e-12, round-off ~1e-9), at dt = 0.3 (a
+//     rate model's history moves with the state). Without an
 //     analytic tangent the output says so (the solvers then use finite
 //     differences); that is no failure.
 // (e) the stable time step dt_est (free body 6x5x4, horizon 3.015 h):
@@ -67,9 +68,9 @@
 //     dt_true. If the measured dt_true makes 3 dt_est at least 1.1 dt_true,
 //     a run at 3 dt_est must exceed 10 E0 within 2000 steps (the top mode
 //     grows by a factor of at least 2.4 per step).
-// (g) if the model declares all of Bulk modulus, Shear modulus, Young's
-//     modulus and Poisson's ratio (elastic_constants.h): given the E and nu
-//     of the K, G it got above, it has the same K and G within 1e-12.
+// (g) every model must declare Bulk modulus, Shear modulus, Young's modulus
+//     and Poisson's ratio (elastic_constants.h; FAIL otherwise): given the E
+//     and nu of the K, G it got above, it has the same K and G within 1e-12.
 // (h) thermal strain: every model must declare Thermal expansion coefficient
 //     (FAIL otherwise). With alpha = 1e-4 and a uniform dT = 5 (the rigid
 //     box of (a)), u = alpha dT (X - X0) is a free thermal expansion: max
@@ -143,8 +144,10 @@ namespace
         std::map<std::string, std::string> keys;
         for (const auto &name : candidate)
           keys[name] = elastic_keys().at(name);
-        if (declared.count("Density"))
-          keys["Density"] = elastic_keys().at("Density");
+        // The keys besides the moduli (Density, Yield stress) that it declares.
+        for (const char *other : {"Density", "Yield stress"})
+          if (declared.count(other))
+            keys[other] = elastic_keys().at(other);
         bool all_declared = true;
         for (const auto &[name, value] : keys)
           all_declared &= declared.count(name) > 0;
@@ -389,6 +392,9 @@ namespace
           h.temperature_change.push_back(3 + 2 * x[0] - x[1] + x[2] * x[2]);
         }
     h.set_random_displacement(0.05 * spacing);
+    // A step of 0.3 from the initial state: a rate model's tangent includes
+    // its history's response over the step (Viscoelastic: e^b follows e^d).
+    h.dt = 0.3;
     h.evaluate(false);
 
     const std::vector<std::uint8_t> free(3 * h.cloud.n_local(), 0);
@@ -508,7 +514,13 @@ namespace
   {
     for (const char *key : {"Bulk modulus", "Shear modulus", "Young's modulus", "Poisson's ratio"})
       if (!declared.count(key))
-        return;
+        {
+          report.line("  FAIL: " + spec.model + " declares no key '" + key +
+                      "': every material takes any two of Bulk modulus, Shear modulus, Young's modulus, "
+                      "Poisson's ratio (declare_elastic_constants(), elastic_constants.h)");
+          ++report.failures;
+          return;
+        }
     const Registry::Entry &entry  = Registry::instance().get(spec.model, "models_conformance");
     const auto             create = [&](const std::map<std::string, std::string> &keys) {
       ParameterHandler prm;
@@ -541,7 +553,7 @@ namespace
       {
         report.line("  FAIL: " + spec.model +
                     " declares no key 'Thermal expansion coefficient': every model must support thermal strain "
-                    "(ModelState::temperature_change, doc/models.md)");
+                    "(ModelState::thermal_strain, doc/models.md)");
         ++report.failures;
         return;
       }

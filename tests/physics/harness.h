@@ -178,8 +178,12 @@ namespace pdtest
                              force.begin(),
                              with_energy ? energy.data() : nullptr,
                              *fields};
-      s.damage             = damage.empty() ? nullptr : damage.data();
-      s.temperature_change = temperature_change.empty() ? nullptr : temperature_change.data();
+      // As the core does: alpha of each point's material times its dT.
+      thermal_strain.assign(temperature_change.size(), 0.0);
+      for (unsigned int i = 0; i < temperature_change.size(); ++i)
+        thermal_strain[i] = materials[cloud.block[i]]->thermal_expansion_coefficient() * temperature_change[i];
+      s.damage         = damage.empty() ? nullptr : damage.data();
+      s.thermal_strain = temperature_change.empty() ? nullptr : thermal_strain.data();
       s.time               = time;
       s.dt                 = dt;
       return s;
@@ -290,6 +294,7 @@ namespace pdtest
     std::vector<std::unique_ptr<perideal::Material>>  materials; // by block
     perideal::Material                               *material; // block 0's
     std::vector<double> temperature_change; // T - T_ref per local point; empty: none
+    std::vector<double> thermal_strain;     // state()'s alpha dT
     std::vector<std::vector<unsigned int>>            block_points;
     perideal::VectorType                              u, force;
     std::vector<double>                               energy;

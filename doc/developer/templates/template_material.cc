@@ -12,11 +12,13 @@
 // = c0 eps^2 pi delta^4 / 20, so c0 = 90 K / (pi delta^4). Bond based, so
 // Poisson's ratio is 1/4 and G = 3K/5: one of K, E, G gives the moduli
 // (parse_bond_based_elastic_constants, elastic_constants.h).
-// Thermal strain (every model has it): with a temperature change dT = T -
-// T_ref per point (ModelState::temperature_change, nullptr without a
-// temperature field), s is the mechanical stretch s = (|y| - |xi|)/|xi| -
-// alpha dT_ij, dT_ij = (dT_i + dT_j)/2, in the force, the energy, the tangent
-// and the peak stretch.
+// Thermal strain (every model has it): the core passes the free thermal
+// strain eps_T = alpha (T - T_ref) of every point, alpha that of the point's
+// own material (ModelState::thermal_strain, nullptr without a temperature
+// field; this model returns its alpha from thermal_expansion_coefficient()).
+// s is the mechanical stretch s = (|y| - |xi|)/|xi| - (eps_T,i + eps_T,j)/2,
+// the same for both ends, in the force, the energy, the tangent and the peak
+// stretch.
 //
 // The state it keeps, to show point_fields() and bond_fields():
 // - template_bond_peak (per bond, history): the largest stretch the bond has
@@ -55,8 +57,7 @@ namespace perideal
     {
       prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
       declare_elastic_constants(prm);
-      prm.declare_entry("Thermal expansion coefficient", "0", Patterns::Double(),
-                        "alpha: a free bond (a free body) strains by alpha (T - T_ref)");
+      declare_thermal_expansion(prm);
     }
 
     // Read the keys; refuse bad values naming the key (path is
@@ -67,7 +68,7 @@ namespace perideal
       rho = prm.get_double("Density");
       require_positive(rho, path + "/Density");
       K                 = parse_bond_based_elastic_constants(prm, path).K;
-      thermal_expansion = prm.get_double("Thermal expansion coefficient");
+      thermal_expansion = parse_thermal_expansion(prm, path);
     }
 
     // The moduli: the report, the stable time step checks and the
@@ -81,6 +82,11 @@ namespace perideal
     bulk_modulus() const override
     {
       return K;
+    }
+    double
+    thermal_expansion_coefficient() const override
+    {
+      return thermal_expansion;
     }
     double
     shear_modulus() const override
@@ -115,7 +121,7 @@ namespace perideal
       // Compile-time variants keep the bond loop free of a branch per bond.
       with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
         with_flag(state.energy != nullptr, [&](auto energy) {
-          with_flag(state.temperature_change && thermal_expansion != 0, [&](auto heated) {
+          with_flag(state.thermal_strain != nullptr, [&](auto heated) {
             kernel<decltype(periodic)::value, decltype(energy)::value, decltype(heated)::value>(state, points);
           });
         });
@@ -191,13 +197,13 @@ namespace perideal
   private:
     double rho = 0, K = 0, thermal_expansion = 0;
 
-    /// alpha dT_ij of bond i-j, 0 without thermal strain.
+    /// The free thermal stretch of bond i-j, 0 without thermal strain.
     double
     thermal_stretch(const ModelState &state, const unsigned int i, const unsigned int j) const
     {
-      if (!state.temperature_change)
+      if (!state.thermal_strain)
         return 0;
-      return thermal_expansion * 0.5 * (state.temperature_change[i] + state.temperature_change[j]);
+      return 0.5 * (state.thermal_strain[i] + state.thermal_strain[j]);
     }
 
     /// c(|xi|) = c0 (1 - |xi|/delta), c0 = 90 K / (pi delta^4).

@@ -49,4 +49,13 @@ namespace perideal
   /// nu = 1/4; another Poisson's ratio throws, saying why.
   ElasticConstants
   parse_bond_based_elastic_constants(ParameterHandler &prm, const std::string &path);
+
+  /// Declares "Thermal expansion coefficient" (default 0: no thermal strain),
+  /// the key every material has (ModelState::thermal_strain).
+  void
+  declare_thermal_expansion(ParameterHandler &prm);
+
+  /// Its value; a non-finite one throws naming the key under @p path.
+  double
+  parse_thermal_expansion(ParameterHandler &prm, const std::string &path);
 } // namespace perideal

@@ -189,9 +189,12 @@ namespace perideal
     // N -> NP1 over dt, time-dependent fields (a temperature) read time.
     double time = 0;
     double dt   = 0;
-    // Temperature change T - T_ref per local point (owned + ghosts), nullptr
-    // when the scene has no temperature field (thermal strain).
-    const double *temperature_change = nullptr;
+    // The free thermal strain alpha_i (T_i - T_ref) of each local point
+    // (owned + ghosts), alpha_i that of point i's own material; nullptr when
+    // the scene has no temperature field. A bond takes the mean of its two
+    // ends', the same value for both owners, so action equals reaction also
+    // between blocks of different thermal expansion coefficients.
+    const double *thermal_strain = nullptr;
   };
 
   class Material
@@ -217,6 +220,14 @@ namespace perideal
     bulk_modulus() const = 0;
     virtual double
     shear_modulus() const = 0;
+    /// alpha of "Thermal expansion coefficient": the core multiplies the
+    /// temperature change of the material's points by it
+    /// (ModelState::thermal_strain). 0: the model has no thermal strain.
+    virtual double
+    thermal_expansion_coefficient() const
+    {
+      return 0;
+    }
 
     /// Reference-state set-up (e.g. weighted volume) over the block's points.
     virtual void

@@ -116,9 +116,9 @@ namespace perideal
     }
 
     /// The temperature field T(x, y, z, t) and T_ref (thermal strain,
-    /// doc/thermal.md): every evaluation then passes dT = T - T_ref at the
-    /// time of set_time() (ModelState::temperature_change). Without it none
-    /// is allocated. Call before setup().
+    /// doc/thermal.md): every evaluation then passes alpha (T - T_ref) at the
+    /// time of set_time() (ModelState::thermal_strain, alpha that of each
+    /// point's material). Without it none is allocated. Call before setup().
     void
     set_temperature(std::unique_ptr<Expression> function, const double reference)
     {
@@ -204,6 +204,7 @@ namespace perideal
     std::unique_ptr<Expression>  temperature_function; // null: no temperature field
     double                       reference_temperature = 0;
     VectorType                   temperature_change; // T - T_ref per local point, ghosted
+    VectorType                   thermal_strain;     // alpha dT (ModelState::thermal_strain), ghosted
     /// dT at every owned point at the current time, then its ghosts.
     /// Collective (a non-finite value stops every rank).
     void
