@@ -11,8 +11,8 @@
 // cannot be below about 1e-7 |V|. The pieces are read as deal.II 9.4 writes
 // them: base64, each array one zlib block after its 4-word header
 // (vtkZLibDataCompressor), or plain base64 with a 1-word size header, or ASCII.
-// Prints per field the number of values read and the largest difference,
-// with PASS/FAIL. Serial; no MPI.
+// Prints per field the number of values read (over all pieces: the same for
+// any number of ranks) and the largest difference, with PASS/FAIL. Serial; no MPI.
 
 #include "check.h"
 
@@ -192,7 +192,6 @@ check_fields(int argc, char *argv[])
         pieces.push_back(dir + attribute(record.substr(at, record.find('>', at) - at), "Source"));
       if (pieces.empty())
         throw std::runtime_error("no pieces in " + pvtu);
-      std::cout << pieces.size() << " piece(s)\n";
 
       for (const auto &f : fields)
         {
