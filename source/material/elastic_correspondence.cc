@@ -174,8 +174,8 @@ namespace perideal
       std::vector<PointField> f = {{"corr_shape_inverse", FieldUse::constant, 9},
                                    {"corr_gershgorin", FieldUse::constant, 1},
                                    {"corr_PKinv", FieldUse::stage, 9},
-                                   {"corr_F", FieldUse::stage, 9},
-                                   {"corr_cauchy", FieldUse::local, 9},
+                                   {"corr_F", FieldUse::stage, 9, "Deformation gradient"},
+                                   {"corr_cauchy", FieldUse::local, 9, "Cauchy stress"},
                                    {"corr_energy", FieldUse::local, 1}};
       if (stabilization != 0)
         f.push_back({"corr_live", FieldUse::stage, 1});

@@ -62,8 +62,6 @@ namespace perideal
                            " components per point; a field has 1, 3, 6 or 9"));
     AssertThrow(!field.dissipation || (field.use == FieldUse::history && field.components == 1),
                 ExcMessage("field '" + field.name + "': a dissipation field is a scalar history field"));
-    AssertThrow(field.output_name.empty() || field.components == 1,
-                ExcMessage("field '" + field.name + "': only scalar fields are written as output"));
     const auto it = fields.find(field.name);
     if (it != fields.end())
       {

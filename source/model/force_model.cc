@@ -15,21 +15,42 @@ namespace perideal
 {
   using namespace dealii;
 
-  std::vector<std::pair<std::string, std::string>>
+  namespace
+  {
+    /// Calls @p f(name, point_fields()) for every registered material and damage model.
+    template <typename Function>
+    void
+    for_each_model(const Function &f)
+    {
+      for (const auto &[name, entry] : Registry<Material>::instance().all())
+        f(name, entry.create()->point_fields());
+      for (const auto &[name, entry] : Registry<DamageModel>::instance().all())
+        f(name, entry.create()->point_fields());
+    }
+  } // namespace
+
+  std::vector<PointField>
   model_output_fields()
   {
-    std::vector<std::pair<std::string, std::string>> out;
-    const auto add = [&](const std::vector<PointField> &fields) {
+    std::vector<PointField> out;
+    for_each_model([&](const std::string &, const std::vector<PointField> &fields) {
       for (const auto &f : fields)
         if (!f.output_name.empty() &&
-            std::none_of(out.begin(), out.end(), [&](const auto &o) { return o.first == f.output_name; }))
-          out.emplace_back(f.output_name, f.name);
-    };
-    for (const auto &[name, entry] : Registry<Material>::instance().all())
-      add(entry.create()->point_fields());
-    for (const auto &[name, entry] : Registry<DamageModel>::instance().all())
-      add(entry.create()->point_fields());
+            std::none_of(out.begin(), out.end(), [&](const auto &o) { return o.output_name == f.output_name; }))
+          out.push_back(f);
+    });
     return out;
+  }
+
+  std::string
+  models_with_output(const std::string &output_name)
+  {
+    std::string models;
+    for_each_model([&](const std::string &name, const std::vector<PointField> &fields) {
+      if (std::any_of(fields.begin(), fields.end(), [&](const auto &f) { return f.output_name == output_name; }))
+        models += (models.empty() ? "" : ", ") + name;
+    });
+    return models;
   }
 
   ForceModel::ForceModel(Discretization &discretization, MechanicalState &mechanical, RunRecord &record,

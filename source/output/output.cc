@@ -17,9 +17,62 @@ namespace perideal
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// DataOut whose cell data may form vectors and tensors. deal.II 9.4
+    /// writes cell data as scalars only; the ranges of consecutive cell data
+    /// components that form one are added to the ranges of the DoF data here,
+    /// where the VTU and PVTU writers look for them (as Particles::DataOut
+    /// does), so each becomes one array of 3 or 9 components.
+    class CellDataOut : public DataOut<3>
+    {
+    public:
+      /// Adds @p fields as cell data, after every DoF data vector.
+      void
+      add_cell_fields(const std::vector<OutputWriter::CellField> &fields)
+      {
+        for (const auto &f : fields)
+          {
+            const unsigned int n = f.components.size();
+            if (n == 1)
+              add_data_vector(*f.components[0], f.name, DataOut<3>::type_cell_data);
+            else
+              {
+                for (unsigned int c = 0; c < n; ++c)
+                  add_data_vector(*f.components[c], f.name + "_" + std::to_string(c), DataOut<3>::type_cell_data);
+                groups.emplace_back(n_cell_components,
+                                    n_cell_components + n - 1,
+                                    f.name,
+                                    n == 9 ? DataComponentInterpretation::component_is_part_of_tensor :
+                                             DataComponentInterpretation::component_is_part_of_vector);
+              }
+            n_cell_components += n;
+          }
+      }
+
+    protected:
+      std::vector<std::tuple<unsigned int, unsigned int, std::string,
+                             DataComponentInterpretation::DataComponentInterpretation>>
+      get_nonscalar_data_ranges() const override
+      {
+        auto ranges = DataOut<3>::get_nonscalar_data_ranges();
+        // The cell data's components come after the DoF data's.
+        const unsigned int first = get_dataset_names().size() - n_cell_components;
+        for (const auto &[begin, last, name, kind] : groups)
+          ranges.emplace_back(first + begin, first + last, name, kind);
+        return ranges;
+      }
+
+    private:
+      unsigned int n_cell_components = 0;
+      std::vector<std::tuple<unsigned int, unsigned int, std::string,
+                             DataComponentInterpretation::DataComponentInterpretation>>
+        groups;
+    };
+  } // namespace
+
   void
-  OutputWriter::declare_parameters(ParameterHandler                                       &prm,
-                                   const std::vector<std::pair<std::string, std::string>> &model_fields)
+  OutputWriter::declare_parameters(ParameterHandler &prm, const std::vector<PointField> &model_fields)
   {
     // The valid names and their documentation from the registered fields and
     // the models'; consecutive names of one documentation share it.
@@ -44,8 +97,9 @@ namespace perideal
                       "Write every this many steps, plus the first and the last step. "
                       "0: write nothing during the run (the summary is still printed).");
     prm.declare_entry("Variables", "Displacement, Damage", Patterns::MultipleSelection(selection),
-                      "Fields written as cell data (constant per point); only these are "
-                      "computed. Empty: no field files, only the globals CSV." +
+                      "Fields written as cell data (constant per point; vectors and tensors as "
+                      "arrays of 3 and 9 components, row-major); only these are computed. A model's "
+                      "field needs a block of that model. Empty: no field files, only the globals CSV." +
                         documentation);
     prm.declare_entry("Globals frequency", "0", Patterns::Integer(0),
                       "Write a globals row every this many steps (plus the first and the last); 0: "
@@ -140,7 +194,7 @@ namespace perideal
   {
     if (cell_fields.empty() && vector_fields.empty())
       return;
-    DataOut<3> data_out;
+    CellDataOut data_out;
     data_out.attach_dof_handler(dof_handler);
     for (const auto &f : vector_fields)
       data_out.add_data_vector(
@@ -149,8 +203,7 @@ namespace perideal
         DataOut<3>::type_dof_data,
         std::vector<DataComponentInterpretation::DataComponentInterpretation>(
           3, DataComponentInterpretation::component_is_part_of_vector));
-    for (const auto &f : cell_fields)
-      data_out.add_data_vector(*f.second, f.first, DataOut<3>::type_cell_data);
+    data_out.add_cell_fields(cell_fields);
     data_out.build_patches();
 
     const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);

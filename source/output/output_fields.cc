@@ -21,6 +21,11 @@ namespace perideal
       {
         return dim;
       }
+      bool
+      nodal() const final
+      {
+        return true;
+      }
       double
       value(const ComputeData &data, const unsigned int i, const unsigned int c) const final
       {
@@ -198,28 +203,35 @@ namespace perideal
       }
     };
 
-    /// A model's point field (not registered: the models declare theirs);
-    /// 0 in the blocks whose models do not have it.
-    class ModelField : public ScalarField
+    /// A model's point field (not registered: the models declare theirs),
+    /// of its declared components; 0 in the blocks whose models do not have it.
+    class ModelField : public OutputField
     {
     public:
-      explicit ModelField(const std::string &field)
-        : field(field)
+      explicit ModelField(const PointField &field)
+        : field(field.name)
+        , components(field.components)
       {}
+      unsigned int
+      n_components() const override
+      {
+        return components;
+      }
       int
       position() const override
       {
         return model_fields_position;
       }
       double
-      value(const ComputeData &data, const unsigned int i, const unsigned int) const override
+      value(const ComputeData &data, const unsigned int i, const unsigned int c) const override
       {
         const VectorType *values = data.model.field(field);
-        return values ? values->local_element(i) : 0.0;
+        return values ? values->local_element(components * i + c) : 0.0;
       }
 
     private:
-      std::string field;
+      std::string  field;
+      unsigned int components;
     };
 
     PERIDEAL_REGISTER(OutputField, Displacement, "Displacement",
@@ -242,13 +254,13 @@ namespace perideal
   } // namespace
 
   std::vector<OutputVariable>
-  output_variables(const std::vector<std::pair<std::string, std::string>> &model_fields)
+  output_variables(const std::vector<PointField> &model_fields)
   {
     std::vector<OutputVariable> variables;
     for (const auto &[name, entry] : Registry<OutputField>::instance().all())
       variables.push_back({name, entry.documentation, entry.create()});
-    for (const auto &[output_name, field] : model_fields)
-      variables.push_back({output_name,
+    for (const auto &field : model_fields)
+      variables.push_back({field.output_name,
                            "fields of the materials and damage models that declare them (0 in the blocks "
                            "of other models).",
                            std::make_unique<ModelField>(field)});

@@ -41,8 +41,16 @@ namespace perideal
     , cloud(discretization.cloud)
     , bonds(discretization.bonds)
   {
-    // The fields Output/Variables asks for, in the files' order.
-    for (auto &v : output_variables(model_output_fields()))
+    // The fields Output/Variables asks for, in the files' order. A model's
+    // field needs a block whose model has it (zeros everywhere would look
+    // like a result).
+    const std::vector<PointField> model_fields = model_output_fields();
+    for (const auto &f : model_fields)
+      AssertThrow(!output.wants(f.output_name) || model.field(f.name),
+                  ExcMessage("Output/Variables: '" + f.output_name + "' is a field of " +
+                             models_with_output(f.output_name) + ", and no block of this scene uses " +
+                             "that model: remove it from Output/Variables"));
+    for (auto &v : output_variables(model_fields))
       if (output.wants(v.name))
         fields.push_back(std::move(v));
   }
@@ -176,14 +184,24 @@ namespace perideal
     IndexSet relevant;
     if (has_continuum)
       DoFTools::extract_locally_relevant_dofs(discretization.dof_handler, relevant);
+    // A symmetric tensor's 9 components from its 6 (xx yy zz xy yz xz).
+    static constexpr unsigned int symmetric[9] = {0, 3, 5, 3, 1, 4, 5, 4, 2};
     for (const auto &[name, documentation, field] : fields)
-      if (field->n_components() == 1)
+      if (!field->nodal())
         {
-          cell_storage.push_back(std::make_unique<Vector<double>>(discretization.triangulation.n_active_cells()));
-          for (unsigned int i = 0; i < n; ++i)
-            if (!discretization.is_virtual(i) || field->at_virtual_points())
-              (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = field->value(data, i, 0);
-          cell_fields.emplace_back(name, cell_storage.back().get());
+          const unsigned int n_stored = field->n_components();
+          const unsigned int n_written = n_stored == 6 ? 9 : n_stored;
+          OutputWriter::CellField cells{name, {}};
+          for (unsigned int c = 0; c < n_written; ++c)
+            {
+              const unsigned int stored = n_stored == 6 ? symmetric[c] : c;
+              cell_storage.push_back(std::make_unique<Vector<double>>(discretization.triangulation.n_active_cells()));
+              for (unsigned int i = 0; i < n; ++i)
+                if (!discretization.is_virtual(i) || field->at_virtual_points())
+                  (*cell_storage.back())[cloud.cell[i]->active_cell_index()] = field->value(data, i, stored);
+              cells.components.push_back(cell_storage.back().get());
+            }
+          cell_fields.push_back(std::move(cells));
         }
       else
         {

@@ -8,6 +8,7 @@
 //                     [--fracture SC STRETCH REACTION]
 //                     [--modulus UL UR XL XR REACTION AREA E TOL]
 //                     [--energy-fraction NAME MIN MAX]...
+//                     [--dissipation PEAK BALANCE]
 //
 // - NAME=VALUE: the column NAME of the CSV row of step S: |value - VALUE| <= T X;
 //   NAME may be a sum of columns, A+B (e.g. the reactions of two supports);
@@ -36,6 +37,13 @@
 //   region at step S): twice it, the energy of a travelling wave there (kinetic
 //   = strain), over the initial kinetic + strain energy, in [MIN, MAX]; may
 //   be given for several columns.
+// - --dissipation (a quasistatic run with a plastic or viscous material, the
+//   column material_dissipation D; PEAK: the last loading step, after which
+//   the load is taken back elastically): D at step PEAK > 0; D never
+//   decreases from a row to the next (by more than 1e-12 of D at PEAK); after
+//   PEAK it stays at its value there to 1e-12 (relative: elastic unloading
+//   dissipates nothing); and in every row the energy balance external work =
+//   strain + kinetic energy + D holds to BALANCE x the largest |external work|.
 // Prints the numbers with PASS/FAIL; non-zero exit on failure. Serial; no MPI.
 
 #include "check.h"
@@ -147,6 +155,37 @@ namespace
   }
 
   void
+  check_dissipation(const std::string &csv, const double peak_step, const double balance)
+  {
+    const auto rows = read_rows(csv);
+    if (rows.empty() || !rows[0].count("material_dissipation"))
+      throw std::runtime_error("no column material_dissipation in " + csv);
+    const auto   peak = read_row(csv, peak_step);
+    const double d    = peak.at("material_dissipation");
+    double       work = 0, drop = 0, drift = 0, imbalance = 0;
+    for (const auto &row : rows)
+      work = std::max(work, std::abs(row.at("external_work")));
+    for (unsigned int k = 0; k < rows.size(); ++k)
+      {
+        const auto  &row = rows[k];
+        const double dk  = row.at("material_dissipation");
+        if (k > 0)
+          drop = std::max(drop, rows[k - 1].at("material_dissipation") - dk);
+        if (row.at("step") > peak_step)
+          drift = std::max(drift, std::abs(dk - d));
+        imbalance = std::max(imbalance, std::abs(row.at("external_work") - row.at("strain_energy") -
+                                                 row.at("kinetic_energy") - dk));
+      }
+    std::cout << std::setprecision(6) << "at step " << peak_step << ": external work " << peak.at("external_work")
+              << ", strain energy " << peak.at("strain_energy") << ", material dissipation " << d << "\n";
+    check("material dissipation at the peak / external work there", d / peak.at("external_work"), d > 0, "> 0");
+    check("largest decrease of D from a row to the next / D at the peak", drop / d, drop <= 1e-12 * d, "<= 1e-12");
+    check("max |D - D at the peak| after the peak / D at the peak", drift / d, drift <= 1e-12 * d, "<= 1e-12");
+    check("max |W - strain - kinetic - D| / max |W|", imbalance / work, imbalance <= balance * work,
+          "<= " + str(balance));
+  }
+
+  void
   check_modulus(const std::map<std::string, double> &row, const std::vector<std::string> &columns,
                 const double area, const double reference, const double tol)
   {
@@ -241,6 +280,7 @@ check_quasistatic(int argc, char *argv[])
         double      min, max;
       };
       std::vector<Fraction> fractions;
+      double                dissipation_peak = -1, dissipation_balance = 0;
       for (int a = 1; a < argc; ++a)
         {
           const std::string arg = argv[a];
@@ -282,6 +322,11 @@ check_quasistatic(int argc, char *argv[])
               area        = std::atof(next().c_str());
               modulus     = std::atof(next().c_str());
               modulus_tol = std::atof(next().c_str());
+            }
+          else if (arg == "--dissipation")
+            {
+              dissipation_peak    = std::atof(next().c_str());
+              dissipation_balance = std::atof(next().c_str());
             }
           else if (arg == "--energy-fraction")
             {
@@ -343,6 +388,8 @@ check_quasistatic(int argc, char *argv[])
                 "<= " + str(drift));
         }
 
+      if (dissipation_peak >= 0)
+        check_dissipation(csv, dissipation_peak, dissipation_balance);
       if (!modulus_columns.empty())
         check_modulus(read_row(csv, step), modulus_columns, area, modulus, modulus_tol);
       if (critical_stretch > 0)

@@ -1,14 +1,18 @@
 // perideal_check MODE ARGUMENTS...: the checks of a pd_app run's globals CSV
 // and output, run by the test runner (tests/tools/run.sh check) after pd_app.
 // The modes and their arguments are described in check_globals.cc (globals),
-// check_quasistatic.cc (quasistatic), check_stability.cc (stability) and
-// check_damage.cc (softening).
+// check_quasistatic.cc (quasistatic), check_stability.cc (stability),
+// check_damage.cc (softening) and check_fields.cc (fields: the field files).
 // Exit code: 0 every check passed, 1 a check failed, 2 bad arguments or input.
 
 #include "check.h"
 
 #include <iostream>
 #include <string>
+
+// The one mode that reads field files (check.h declares the others).
+int
+check_fields(int argc, char *argv[]);
 
 int
 main(int argc, char *argv[])
@@ -23,6 +27,8 @@ main(int argc, char *argv[])
     return check_stability(argc - 1, argv + 1);
   if (mode == "softening")
     return check_damage(argc - 1, argv + 1);
-  std::cout << "usage: perideal_check globals|quasistatic|stability|softening ARGUMENTS..." << std::endl;
+  if (mode == "fields")
+    return check_fields(argc - 1, argv + 1);
+  std::cout << "usage: perideal_check globals|quasistatic|stability|softening|fields ARGUMENTS..." << std::endl;
   return 2;
 }

@@ -16,7 +16,11 @@ add_executable(perideal_check
   ${CMAKE_CURRENT_LIST_DIR}/check_globals.cc
   ${CMAKE_CURRENT_LIST_DIR}/check_quasistatic.cc
   ${CMAKE_CURRENT_LIST_DIR}/check_stability.cc
-  ${CMAKE_CURRENT_LIST_DIR}/check_damage.cc)
+  ${CMAKE_CURRENT_LIST_DIR}/check_damage.cc
+  ${CMAKE_CURRENT_LIST_DIR}/check_fields.cc)
+# The fields mode inflates the .vtu arrays deal.II compresses with zlib.
+find_package(ZLIB REQUIRED)
+target_link_libraries(perideal_check ZLIB::ZLIB)
 
 # perideal_add_test(TEST NP TIMEOUT COMMAND...): one ctest case on NP ranks
 # with the suite's environment, labelled ${perideal_test_group}.

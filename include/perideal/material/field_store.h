@@ -47,8 +47,8 @@ namespace perideal
     std::string  name;           // the store's key, e.g. "dilatation"
     FieldUse     use        = FieldUse::stage;
     unsigned int components = 1; // 1, 3, 6 or 9
-    /// The name in Output/Variables (cell data of the field files; a scalar
-    /// field only), empty if the field is internal.
+    /// The name in Output/Variables (cell data of the field files, vectors
+    /// and tensors as 3 or 9 components), empty if the field is internal.
     std::string output_name = "";
     /// A history scalar that holds the energy the model has dissipated per
     /// unit volume so far (plastic or viscous work): the postprocessing sums

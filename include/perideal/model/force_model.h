@@ -23,12 +23,15 @@ namespace perideal
 {
   class Coupling;
 
-  /// The scalar fields every registered material and damage model offers as
-  /// output: (Output/Variables name, field name), in registry order, each
-  /// output name once. Written for every run (0 where a block's model does
-  /// not have it).
-  std::vector<std::pair<std::string, std::string>>
+  /// The fields every registered material and damage model offers as output
+  /// (those with an output_name), in registry order, each output name once.
+  /// A run may write those of its blocks' models (0 in the blocks of others).
+  std::vector<PointField>
   model_output_fields();
+  /// The registered materials and damage models that offer the output
+  /// variable @p output_name, as "A, B" (for error messages).
+  std::string
+  models_with_output(const std::string &output_name);
 
   class ForceModel
   {

@@ -8,6 +8,7 @@
 // steps only, no piece of another step, and a CSV never ahead of the .pvd.
 
 #include <perideal/base/input.h>
+#include <perideal/material/field_store.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/la_parallel_vector.h>
@@ -27,7 +28,7 @@ namespace perideal
     /// registered models offer (model_output_fields()). Output/Variables'
     /// names and documentation come from output_variables() (output_field.h).
     static void
-    declare_parameters(ParameterHandler &prm, const std::vector<std::pair<std::string, std::string>> &model_fields);
+    declare_parameters(ParameterHandler &prm, const std::vector<PointField> &model_fields);
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -68,12 +69,19 @@ namespace perideal
     void
     initialize(const MPI_Comm comm);
 
-    using CellField   = std::pair<std::string, const dealii::Vector<double> *>;
+    /// A field constant per cell: 1 component (a scalar), 3 (a vector) or 9
+    /// (a 3x3 tensor, row-major), each one value per active cell.
+    struct CellField
+    {
+      std::string                               name;
+      std::vector<const dealii::Vector<double> *> components;
+    };
     using VectorField = std::pair<std::string,
                                   const dealii::LinearAlgebra::distributed::Vector<double> *>;
 
-    /// Writes one output step of @p cell_fields (one value per active cell)
-    /// and @p vector_fields (DG0 vectors on @p dof_handler). Collective.
+    /// Writes one output step of @p cell_fields and @p vector_fields (DG0
+    /// vectors on @p dof_handler). A vector or tensor cell field becomes one
+    /// array of 3 or 9 components in the files, as ParaView reads them. Collective.
     void
     write_fields(const dealii::DoFHandler<3>    &dof_handler,
                  const std::vector<CellField>   &cell_fields,

@@ -8,6 +8,7 @@
 
 #include <perideal/base/registry.h>
 #include <perideal/compute/point_quantity.h>
+#include <perideal/material/field_store.h>
 
 #include <memory>
 #include <string>
@@ -26,10 +27,19 @@ namespace perideal
 
     virtual ~OutputField() = default;
 
-    /// 1: a value per point, written as cell data; dim: a vector, written
-    /// per point on the PD cells and per FE node on the continuum cells.
+    /// 1: a scalar; 3: a vector; 6: a symmetric 3x3 tensor (xx yy zz xy yz
+    /// xz, written as 9 components); 9: a 3x3 tensor, row-major.
     virtual unsigned int
     n_components() const = 0;
+
+    /// True for a vector of the mechanical state, written per point on the
+    /// PD cells and per FE node (node_value()) on the continuum cells; false
+    /// for a field written as cell data, constant per point.
+    virtual bool
+    nodal() const
+    {
+      return false;
+    }
 
     /// Where the field stands in Output/Variables and in the files
     /// (ascending; the models' fields stand at model_fields_position). The
@@ -42,7 +52,7 @@ namespace perideal
     virtual double
     value(const ComputeData &data, const unsigned int i, const unsigned int c) const = 0;
 
-    /// A vector's value at FE node @p k of data.continuum->nodes (the
+    /// A nodal vector's value at FE node @p k of data.continuum->nodes (the
     /// component nodes[k].component); continuum blocks only.
     virtual double
     node_value(const ComputeData &, const unsigned int) const
@@ -70,8 +80,8 @@ namespace perideal
   };
 
   /// Every field a run can write: the registered ones and the models'
-  /// (@p model_fields: model_output_fields(), as (output name, field name)),
-  /// ordered by position(); the models' in their given order.
+  /// (@p model_fields: model_output_fields()), ordered by position(); the
+  /// models' in their given order.
   std::vector<OutputVariable>
-  output_variables(const std::vector<std::pair<std::string, std::string>> &model_fields);
+  output_variables(const std::vector<PointField> &model_fields);
 } // namespace perideal
