@@ -8,7 +8,8 @@
 # Models (PeriDeal "Model" / LAMMPS pair_style):
 #   pmb   PMB / peri/pmb            lps  LPS / peri/lps
 #   eps   Elastic plastic / peri/eps: K = 1, G = 0.6, yield stress --yield,
-#         perfectly plastic (the surface layers yield, the dilating bulk not)
+#         perfectly plastic (0.002: the surface layers yield first, and by
+#         step 200 about 90% of the points at n = 20 and 60)
 #   ves   Viscoelastic / peri/ves: K = 1, G = 0.6, Viscous fraction = LAMMPS
 #         lambda_i (--viscous-fraction), Relaxation time = LAMMPS tau_i
 #         (--relaxation-time)
