@@ -5,6 +5,17 @@
 # (i+1/2)h, h = 1/n), horizon 3.015 h, density 1; PMB K = 1; LPS K = 1, G = 0.6;
 # initial velocity vamp*(x-0.5, y-0.5, z-0.5); velocity Verlet with the fixed
 # dt = 0.3560630338 h; 200 steps; no field output.
+# Models (PeriDeal "Model" / LAMMPS pair_style):
+#   pmb   PMB / peri/pmb            lps  LPS / peri/lps
+#   eps   Elastic plastic / peri/eps: K = 1, G = 0.6, yield stress --yield,
+#         perfectly plastic (0.002: the surface layers yield first, and by
+#         step 200 about 90% of the points at n = 20 and 60)
+#   ves   Viscoelastic / peri/ves: K = 1, G = 0.6, Viscous fraction = LAMMPS
+#         lambda_i (--viscous-fraction), Relaxation time = LAMMPS tau_i
+#         (--relaxation-time)
+#   corr  Elastic correspondence (K = 1, G = 0.6, its defaults: Green-Lagrange,
+#         hourglass 0.02), PeriDeal only: its ratio column is against
+#         PeriDeal's LPS of the same case (run lps too)
 #   elastic     critical stretch 1.0,   vamp 0.01 (no bond breaks)
 #   elastic-nd  as elastic, but PeriDeal runs without a damage model (LAMMPS
 #               cannot switch its bond-break check off: it runs 'elastic')
@@ -14,13 +25,16 @@
 # both see about the same machine load; compare ratios, not absolute times.
 #
 # usage: bench/cube_explicit.sh [options]
-#   -m, --models LIST      pmb lps                      (default: "pmb lps")
+#   -m, --models LIST      pmb lps eps ves corr         (default: "pmb lps")
 #   -v, --variants LIST    elastic elastic-nd dmg       (default: "elastic dmg")
 #   -n, --sizes LIST       points per edge              (default: "20 40 60")
 #   -r, --ranks LIST       MPI ranks                    (default: "1 2")
 #   -R, --reps N           repetitions of every case    (default: 1)
 #   -c, --codes LIST       perideal lammps              (default: both)
 #       --pd-app PATH      PeriDeal executable          (default: build/pd_app)
+#       --yield Y          eps: yield stress            (default: 0.002)
+#       --viscous-fraction L  ves: lambda_i             (default: 0.5)
+#       --relaxation-time T   ves: tau_i                (default: 1.0)
 #       --steps N          time steps                   (default: 200)
 #       --globals-freq F   PeriDeal Output/Frequency: 200 writes the globals CSV
 #                          (kinetic energy, damage) at steps 0 and 200 only, no
@@ -35,7 +49,9 @@
 #                          MPI between them: what they lose is the machine's)
 #       --no-physics       skip the physics check (n = 20, 1 rank, both codes,
 #                          kinetic energy every 50 steps; PeriDeal's mean damage
-#                          from its Damage field; LPS also with 'lammps' influence)
+#                          from its Damage field; LPS also with 'lammps' influence;
+#                          eps: PeriDeal's yielded share of the points; corr
+#                          against PeriDeal's LPS instead of LAMMPS)
 #   -o, --out DIR          results directory   (default: bench/results/<date-time>)
 #       --summarize DIR    only print the tables of an earlier results directory
 #   -h, --help
@@ -70,6 +86,9 @@ FREQ=200
 PHYSICS=1
 PAIR=0
 LPS_INFLUENCE=1
+YIELD=0.002
+VFRAC=0.5
+TAU=1.0
 OUT=""
 SUMMARIZE=""
 
@@ -88,6 +107,9 @@ while [ $# -gt 0 ]; do
     --steps)         STEPS=$2; shift 2;;
     --globals-freq)  FREQ=$2; shift 2;;
     --lps-influence) LPS_INFLUENCE=$2; shift 2;;
+    --yield)         YIELD=$2; shift 2;;
+    --viscous-fraction) VFRAC=$2; shift 2;;
+    --relaxation-time)  TAU=$2; shift 2;;
     --no-physics)    PHYSICS=0; shift;;
     --pair)          PAIR=1; shift;;
     -o|--out)        OUT=$2; shift 2;;
@@ -97,7 +119,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-for m in $MODELS; do case $m in pmb|lps) ;; *) echo "Error: unknown model '$m'" >&2; exit 2;; esac; done
+for m in $MODELS; do case $m in pmb|lps|eps|ves|corr) ;; *) echo "Error: unknown model '$m'" >&2; exit 2;; esac; done
 for v in $VARIANTS; do case $v in elastic|elastic-nd|dmg) ;; *) echo "Error: unknown variant '$v'" >&2; exit 2;; esac; done
 for c in $CODES; do case $c in perideal|lammps) ;; *) echo "Error: unknown code '$c'" >&2; exit 2;; esac; done
 
@@ -154,13 +176,21 @@ write_prm() { # model variant n file output-frequency output-variables lps-influ
     echo "subsection Materials"
     echo "  set Names = mat"
     echo "  subsection mat"
-    if [ "$model" = pmb ]; then
-      echo "    set Model = PMB"
-    else
-      echo "    set Model = LPS"
-      echo "    set Shear modulus = 0.6"
-      echo "    set Influence function = $influence"
-    fi
+    case $model in
+      pmb) echo "    set Model = PMB";;
+      lps) echo "    set Model = LPS"
+           echo "    set Shear modulus = 0.6"
+           echo "    set Influence function = $influence";;
+      eps) echo "    set Model = Elastic plastic"
+           echo "    set Shear modulus = 0.6"
+           echo "    set Yield stress = $YIELD";;
+      ves) echo "    set Model = Viscoelastic"
+           echo "    set Shear modulus = 0.6"
+           echo "    set Viscous fraction = $VFRAC"
+           echo "    set Relaxation time = $TAU";;
+      corr) echo "    set Model = Elastic correspondence"
+           echo "    set Shear modulus = 0.6";;
+    esac
     echo "    set Density = 1"
     echo "    set Bulk modulus = 1"
     echo "  end"
@@ -208,15 +238,17 @@ write_prm() { # model variant n file output-frequency output-variables lps-influ
   } > "$file"
 }
 
-# "ke0 ke_end se_end broken max_damage" from a PeriDeal globals CSV (- if absent).
+# "ke0 ke_end se_end broken max_damage dissipation" from a PeriDeal globals CSV
+# (- if absent; dissipation 0 for a model that dissipates nothing).
 pd_globals() {
   local csv=$1
-  if [ ! -s "$csv" ]; then echo "- - - - -"; return; fi
+  if [ ! -s "$csv" ]; then echo "- - - - - -"; return; fi
   awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
            NR == 2 { ke0 = $col["kinetic_energy"] }
            { ke = $col["kinetic_energy"]; se = $col["strain_energy"];
-             br = $col["broken_bonds"]; md = $col["max_damage"] }
-           END { print ke0, ke, se, br, md }' "$csv"
+             br = $col["broken_bonds"]; md = $col["max_damage"]
+             ds = ("material_dissipation" in col) ? $col["material_dissipation"] : 0 }
+           END { print ke0, ke, se, br, md, ds }' "$csv"
 }
 
 # Seconds of a TimerOutput section in a PeriDeal log ("0" if absent).
@@ -225,6 +257,15 @@ pd_timer() {
     name == s { t = $4; gsub(/[ s]/, "", t); print t; found = 1; exit }
     END { if (!found) print 0 }' "$1"
 }
+
+# Extra LAMMPS variables of a model (its material parameters).
+lmp_vars() { # model
+  case $1 in
+    eps) echo "-var Y $YIELD";;
+    ves) echo "-var lambda $VFRAC -var tau $TAU";;
+  esac
+}
+has_lammps() { case $1 in pmb|lps|eps|ves) return 0;; *) return 1;; esac; }
 
 # "step ke pe dave dmax" lines of the last LAMMPS run in a log (raw LAMMPS units).
 lmp_thermo_rows() {
@@ -248,7 +289,7 @@ loadavg() { cut -d' ' -f1 /proc/loadavg; }
 
 # ---------------------------------------------------------------- summary
 
-COLS="code model variant n ranks rep status loop_s bonds updates peak_mib ke0 ke_end se_end broken dmax dave t_force t_damage t_ghost t_integ t_output cpu_pct load1 scene_mib t_sums"
+COLS="code model variant n ranks rep status loop_s bonds updates peak_mib ke0 ke_end se_end broken dmax dave t_force t_damage t_ghost t_integ t_output cpu_pct load1 scene_mib t_sums diss_end"
 
 summarize() { # results.tsv
   awk -F'\t' -v steps="$STEPS" '
@@ -262,15 +303,19 @@ summarize() { # results.tsv
     function fmt(x, f) { return (x == "" || x == "-") ? "-" : sprintf(f, x) }
     function name(c) { return c == "perideal" ? "PeriDeal" : "LAMMPS" }
     # bytes per bond from peak RSS (and scene memory), with the verdict
-    function bpb(rss, pss, b,   x, y) {
+    # (the 24 B/bond target is for PMB and LPS; the others only report)
+    function bpb(rss, pss, b, m,   x, y) {
       x = rss * 1048576 / b
+      if (m != "pmb" && m != "lps") return (pss == "") ? sprintf("%.1f", x) : sprintf("%.1f (%.1f)", x, pss * 1048576 / b)
       if (pss == "") return sprintf("%.1f %s", x, x <= 24 ? "met" : "**not met**")
       y = pss * 1048576 / b
       return sprintf("%.1f (%.1f) %s", x, y, (x <= 24 ? "met" : (y <= 24 ? "met by scene memory" : "**not met**")))
     }
     # The LAMMPS run a PeriDeal case compares with: the same case; for
     # elastic-nd, LAMMPS runs elastic, so an elastic run serves if needed.
+    # corr (no LAMMPS model) compares with the PeriDeal LPS run of the same case.
     function peer(m, v, n, r,   k) {
+      if (m == "corr") return "perideal" SUBSEP "lps" SUBSEP v SUBSEP n SUBSEP r
       k = "lammps" SUBSEP m SUBSEP v SUBSEP n SUBSEP r
       if (!(k in U) && v == "elastic-nd") k = "lammps" SUBSEP m SUBSEP "elastic" SUBSEP n SUBSEP r
       return k
@@ -292,6 +337,7 @@ summarize() { # results.tsv
       add(tf, key, $c["t_force"]); add(td, key, $c["t_damage"]); add(tg, key, $c["t_ghost"])
       add(ti, key, $c["t_integ"]); add(to, key, $c["t_output"])
       add(ts, key, ("t_sums" in c) && $c["t_sums"] != "" ? $c["t_sums"] : 0)
+      ds[key] = ("diss_end" in c) && $c["diss_end"] != "" && $c["diss_end"] != "-" ? $c["diss_end"] : 0
     }
     END {
       # order: model, variant, n, ranks, code (PeriDeal first)
@@ -307,7 +353,7 @@ summarize() { # results.tsv
       }
       print "### Performance (median over repetitions)"
       print ""
-      print "Ratio = PeriDeal/LAMMPS bond updates per second per core (same case, same ranks); efficiency = updates/s on 2 ranks / (2 x on 1 rank). CPU = CPU share the run got (100% = a whole core per rank); the \"per CPU-s\" columns divide by it, an estimate for an idle machine."
+      print "Ratio = PeriDeal/LAMMPS bond updates per second per core (same case, same ranks; CORR: over PeriDeal LPS); efficiency = updates/s on 2 ranks / (2 x on 1 rank). CPU = CPU share the run got (100% = a whole core per rank); the \"per CPU-s\" columns divide by it, an estimate for an idle machine."
       print ""
       print "| code | model | variant | n | ranks | reps | loop [s] | bond updates/s | per core | peak mem [MiB] | bytes/bond | ratio | 2-rank eff. | CPU | per CPU-s per core | ratio per CPU-s | eff. per CPU-s | load |"
       print "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
@@ -331,7 +377,7 @@ summarize() { # results.tsv
       print ""
       print "Machine ceiling (--pair): the summed rate of two independent 1-rank runs at once over twice the 1-rank rate; the efficiency no 2-rank run can beat on this machine but by chance. Relative: the 2-rank rate over that summed rate."
       print ""
-      print "| model | variant | n | ratio per core, 1 rank (>= 2) | ratio per core, 2 ranks (>= 2) | bytes/bond, 1 rank (<= 24) | bytes/bond, 2 ranks (<= 24) | 2-rank efficiency (>= 90%) | LAMMPS 2-rank efficiency | machine ceiling | 2-rank rate / pair rate |"
+      print "| model | variant | n | ratio per core, 1 rank (>= 2) | ratio per core, 2 ranks (>= 2) | bytes/bond, 1 rank (PMB, LPS <= 24) | bytes/bond, 2 ranks (PMB, LPS <= 24) | 2-rank efficiency (>= 90%) | LAMMPS 2-rank efficiency | machine ceiling | 2-rank rate / pair rate |"
       print "|---|---|---|---|---|---|---|---|---|---|---|"
       for (i = 1; i <= nk; i++) {
         key = order[i]; split(key, f, SUBSEP)
@@ -341,12 +387,17 @@ summarize() { # results.tsv
         done[base] = 1
         p1 = "perideal" SUBSEP base SUBSEP 1; p2 = "perideal" SUBSEP base SUBSEP 2
         l1 = peer(f[2], f[3], f[4], 1);       l2 = peer(f[2], f[3], f[4], 2)
-        r1 = ((p1 in U) && (l1 in U)) ? sprintf("%.2f (%.2f) %s", U[p1] / U[l1], UC[p1] / UC[l1], U[p1] / U[l1] >= 2 ? "met" : "**not met**") : "-"
-        r2 = ((p2 in U) && (l2 in U)) ? sprintf("%.2f (%.2f) %s", U[p2] / U[l2], UC[p2] / UC[l2], U[p2] / U[l2] >= 2 ? "met" : "**not met**") : "-"
-        bb = (p1 in U) ? bpb(M[p1], P[p1], bonds[p1]) : "-"
-        b2 = (p2 in U) ? bpb(M[p2], P[p2], bonds[p2]) : "-"
+        # corr: no target, its rate over the PeriDeal LPS rate (awk creates
+        # U[k] when it reads it: test "in" first)
+        r1 = "-"; r2 = "-"
+        if ((p1 in U) && (l1 in U))
+          r1 = sprintf("%.2f (%.2f) %s", U[p1] / U[l1], UC[p1] / UC[l1], f[2] == "corr" ? "of LPS" : (U[p1] / U[l1] >= 2 ? "met" : "**not met**"))
+        if ((p2 in U) && (l2 in U))
+          r2 = sprintf("%.2f (%.2f) %s", U[p2] / U[l2], UC[p2] / UC[l2], f[2] == "corr" ? "of LPS" : (U[p2] / U[l2] >= 2 ? "met" : "**not met**"))
+        bb = (p1 in U) ? bpb(M[p1], P[p1], bonds[p1], f[2]) : "-"
+        b2 = (p2 in U) ? bpb(M[p2], P[p2], bonds[p2], f[2]) : "-"
         e  = ((p1 in U) && (p2 in U)) ? sprintf("%.0f%% (%.0f%%) %s", 100 * U[p2] / (2 * U[p1]), 100 * UC[p2] / (2 * UC[p1]), U[p2] / (2 * U[p1]) >= 0.9 ? "met" : "**not met**") : "-"
-        le = ((l1 in U) && (l2 in U)) ? sprintf("%.0f%% (%.0f%%)", 100 * U[l2] / (2 * U[l1]), 100 * UC[l2] / (2 * UC[l1])) : "-"
+        le = (f[2] != "corr" && (l1 in U) && (l2 in U)) ? sprintf("%.0f%% (%.0f%%)", 100 * U[l2] / (2 * U[l1]), 100 * UC[l2] / (2 * UC[l1])) : "-"
         ceil = "-"; rel = "-"
         if ((base in pairs) && (p1 in U)) ceil = sprintf("%.0f%%", 100 * median(pairs[base]) / (2 * U[p1]))
         if ((base in pairs) && (p2 in U)) rel = sprintf("%.0f%%", 100 * U[p2] / median(pairs[base]))
@@ -370,15 +421,16 @@ summarize() { # results.tsv
       print ""
       print "### Physics at step " steps " of the timed runs (energies in PeriDeal units: LAMMPS ke, pe x h^3)"
       print ""
-      print "| model | variant | n | ranks | KE(0) PeriDeal | KE(0) LAMMPS | KE(" steps ") PeriDeal | KE(" steps ") LAMMPS | PeriDeal/LAMMPS | KE+SE(" steps ")/KE(0) PeriDeal | max damage PeriDeal / LAMMPS | broken bonds PeriDeal (fraction) | mean damage LAMMPS |"
+      print "| model | variant | n | ranks | KE(0) PeriDeal | KE(0) LAMMPS | KE(" steps ") PeriDeal | KE(" steps ") LAMMPS | PeriDeal/LAMMPS | KE+SE+D(" steps ")/KE(0) PeriDeal | max damage PeriDeal / LAMMPS | broken bonds PeriDeal (fraction) | mean damage LAMMPS |"
       print "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
       for (i = 1; i <= nk; i++) {
         key = order[i]; split(key, f, SUBSEP)
         if (f[1] != "perideal") continue
-        other = peer(f[2], f[3], f[4], f[5])
-        h = (other in U)
+        other = "lammps" SUBSEP f[2] SUBSEP f[3] SUBSEP f[4] SUBSEP f[5]
+        if (!(other in U)) other = peer(f[2], f[3], f[4], f[5])
+        h = (other in U) && f[2] != "corr"
         r = (h && ke[other] != "-" && ke[other] + 0 > 0 && ke[key] != "-") ? sprintf("%.4f", ke[key] / ke[other]) : "-"
-        tot = (ke[key] != "-" && ke0[key] + 0 > 0) ? sprintf("%.5f", (ke[key] + se[key]) / ke0[key]) : "-"
+        tot = (ke[key] != "-" && ke0[key] + 0 > 0) ? sprintf("%.5f", (ke[key] + se[key] + ds[key]) / ke0[key]) : "-"
         frac = (br[key] == "-") ? "-" : sprintf("%.0f (%.4f)", br[key], br[key] / (bonds[key] / 2))
         printf "| %s | %s | %d | %d | %s | %s | %s | %s | %s | %s | %s / %s | %s | %s |\n",
           toupper(f[2]), f[3], f[4], f[5], fmt(ke0[key], "%.6g"), h ? fmt(ke0[other], "%.6g") : "-",
@@ -390,18 +442,19 @@ summarize() { # results.tsv
     }' "$1"
 }
 
-# Mean point damage of a PeriDeal run from its Damage field (the .vtu pieces of
-# the last step). deal.II writes cell data as point data (8 equal vertex values
-# per cell), which leaves the mean unchanged.
-pd_mean_damage() { # output dir
-  python3 - "$1" <<'EOF' 2>/dev/null || echo -
+# Statistics of a point field of a PeriDeal run (the .vtu pieces of the last
+# step): "mean max share" with share the fraction of points where it is > 0.
+# deal.II writes cell data as point data (8 equal vertex values per cell),
+# which leaves the mean, the maximum and the share unchanged.
+pd_field() { # output dir, field name
+  python3 - "$1" "$2" <<'EOF' 2>/dev/null || echo "- - -"
 import base64, glob, re, struct, sys, zlib
-d = sys.argv[1]
+d, name = sys.argv[1], sys.argv[2]
 stems = sorted(set(re.sub(r'\.\d+\.vtu$', '', f) for f in glob.glob(d + '/cube_*.vtu')))
-total = count = 0.0
+vals = []
 for f in glob.glob(stems[-1] + '.*.vtu'):
     text = open(f).read()
-    m = re.search(r'(<DataArray[^>]*Name="Damage"[^>]*>)\s*([^<]*)<', text)
+    m = re.search(r'(<DataArray[^>]*Name="' + re.escape(name) + r'"[^>]*>)\s*([^<]*)<', text)
     head, raw = m.group(1), m.group(2).strip()
     fmt = 'f' if 'Float32' in head else 'd'
     if 'format="binary"' in head:
@@ -415,38 +468,64 @@ for f in glob.glob(stems[-1] + '.*.vtu'):
         out = b''; pos = 0
         for s in sizes:
             out += zlib.decompress(data[pos:pos + s]); pos += s
-        vals = struct.unpack('<%d%s' % (len(out) // struct.calcsize(fmt), fmt), out)
+        vals += struct.unpack('<%d%s' % (len(out) // struct.calcsize(fmt), fmt), out)
     else:
-        vals = [float(v) for v in raw.split()]
-    total += sum(vals); count += len(vals)
-print('%.6g' % (total / count))
+        vals += [float(v) for v in raw.split()]
+print('%.6g %.6g %.6g' % (sum(vals) / len(vals), max(vals), sum(1 for v in vals if v > 0) / len(vals)))
 EOF
+}
+
+# One PeriDeal run of the physics check (n = 20, 1 rank, output every 50
+# steps) in DIR, unless it is there already.
+physics_pd_run() { # model variant influence dir
+  local m=$1 v=$2 infl=$3 dir=$4 vars=""
+  [ -s "$dir/output/cube.globals.csv" ] && return
+  mkdir -p "$dir"
+  [ "$v" = dmg ] && vars="Damage"
+  [ "$m" = eps ] && vars="${vars:+$vars, }Equivalent plastic strain"
+  write_prm "$m" "$v" 20 "$dir/pd.prm" 50 "$vars" "$infl"
+  (cd "$dir" && mpirun -np 1 --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
 }
 
 # Physics check: n = 20, 1 rank, both codes; kinetic energy every 50 steps, and
 # for dmg the damage. LPS runs twice in PeriDeal: with the influence function of
-# the timed runs and with LAMMPS' effective one.
+# the timed runs and with LAMMPS' effective one. Elastic plastic and
+# Viscoelastic have omega = 1 (no key): they differ from LAMMPS as LPS with
+# influence 1 does, and in the plastic or viscous part (doc/performance.md).
+# Elastic correspondence has no LAMMPS model: it is compared with PeriDeal's
+# LPS (influence 1), the same K and G.
 physics_check() { # out dir
-  local out=$1 m v setups s infl dir lmpdir sc vamp
+  local out=$1 m v setups s infl dir refdir sc vamp ref
   local md="$out/physics.md"
   {
     echo "### Physics check: n = 20, 1 rank, kinetic energy at steps 0, 50, ..., $STEPS (PeriDeal units)"
     echo
-    echo "PeriDeal's LPS influence \"1\" (its default) and \"lammps\" = $LAMMPS_INFLUENCE (LAMMPS' 1/|xi| with its partial-volume factor)."
+    echo "PeriDeal's LPS influence \"1\" (its default) and \"lammps\" = $LAMMPS_INFLUENCE (LAMMPS' 1/|xi| with its partial-volume factor); Elastic plastic and Viscoelastic have omega = 1. EPS yield stress $YIELD; VES viscous fraction (lambda_i) $VFRAC, relaxation time (tau_i) $TAU. D = PeriDeal's material dissipation (plastic or viscous); LAMMPS' pe of EPS and VES is its stored energy only."
     echo
-    echo "| model | variant | PeriDeal setup | max rel. KE difference | KE($STEPS) PeriDeal | KE($STEPS) LAMMPS | (KE+SE)($STEPS)/KE(0) PeriDeal | (KE+PE)($STEPS)/KE(0) LAMMPS | mean damage PeriDeal / LAMMPS | max damage PeriDeal / LAMMPS |"
-    echo "|---|---|---|---|---|---|---|---|---|---|"
+    echo "| model | variant | PeriDeal setup | reference | max rel. KE difference | KE($STEPS) PeriDeal | KE($STEPS) reference | (KE+SE+D)($STEPS)/KE(0) PeriDeal | D($STEPS)/KE(0) PeriDeal | (KE+PE)($STEPS)/KE(0) reference | mean damage PeriDeal / reference | max damage PeriDeal / reference | EPS: points yielded, max eps_p |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
   } > "$md"
   for m in $MODELS; do
     for v in $VARIANTS; do
       read -r sc vamp <<< "$(variant_params "$v")"
-      lmpdir="$out/physics_lammps_${m}_${v}"
-      if [ ! -s "$lmpdir/lmp.log" ]; then
-        mkdir -p "$lmpdir"
-        (cd "$lmpdir" && lmp -in "$here/lammps/in.cube_$m" -var n 20 -var s00 "$sc" -var vamp "$vamp" \
-           -var nsteps "$STEPS" -log lmp.log -screen none > lmp.out 2>&1)
+      if has_lammps "$m"; then
+        ref=LAMMPS
+        refdir="$out/physics_lammps_${m}_${v}"
+        if [ ! -s "$refdir/lmp.log" ]; then
+          mkdir -p "$refdir"
+          (cd "$refdir" && lmp -in "$here/lammps/in.cube_$m" -var n 20 -var s00 "$sc" -var vamp "$vamp" \
+             -var nsteps "$STEPS" $(lmp_vars "$m") -log lmp.log -screen none > lmp.out 2>&1)
+        fi
+        lmp_thermo_rows "$refdir/lmp.log" | awk '{ V = 1 / 8000; print $1, $2 * V, $3 * V, $4, $5 }' > "$refdir/thermo.txt"
+      else
+        ref="PeriDeal LPS (influence 1)"
+        refdir="$out/physics_perideal_lps_${v}_default"
+        physics_pd_run lps "$v" 1 "$refdir"
+        local rmean="-"; [ "$v" = dmg ] && read -r rmean _ _ <<< "$(pd_field "$refdir/output" Damage)"
+        awk -F, -v dave="$rmean" 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+          { print $col["step"], $col["kinetic_energy"], $col["strain_energy"], dave, $col["max_damage"] }' \
+          "$refdir/output/cube.globals.csv" > "$refdir/thermo.txt"
       fi
-      lmp_thermo_rows "$lmpdir/lmp.log" | awk '{ V = 1 / 8000; print $1, $2 * V, $3 * V, $4, $5 }' > "$lmpdir/thermo.txt"
       if [ "$m" = lps ]; then setups="default lammps"; else setups="default"; fi
       [ "$m" = lps ] && [ "$LPS_INFLUENCE" != 1 ] && setups="timed lammps"
       for s in $setups; do
@@ -456,22 +535,30 @@ physics_check() { # out dir
           lammps)  infl=$LAMMPS_INFLUENCE;;
         esac
         dir="$out/physics_perideal_${m}_${v}_${s}"
-        mkdir -p "$dir"
-        local vars=""; [ "$v" = dmg ] && vars="Damage"
-        write_prm "$m" "$v" 20 "$dir/pd.prm" 50 "$vars" "$infl"
-        (cd "$dir" && mpirun -np 1 --bind-to core "$PD_APP" pd.prm > pd.log 2>&1)
-        local mean="-"; [ "$v" = dmg ] && mean=$(pd_mean_damage "$dir/output")
-        local label="-"; [ "$m" = lps ] && label="influence $([ "$s" = lammps ] && echo lammps || echo "$infl")"
-        awk -F, -v th="$lmpdir/thermo.txt" -v m="${m^^}" -v v="$v" -v s="$label" -v mean="$mean" -v steps="$STEPS" '
+        physics_pd_run "$m" "$v" "$infl" "$dir"
+        local mean="-"; [ "$v" = dmg ] && read -r mean _ _ <<< "$(pd_field "$dir/output" Damage)"
+        local plastic="-"
+        if [ "$m" = eps ]; then
+          local pm pmax pshare; read -r pm pmax pshare <<< "$(pd_field "$dir/output" "Equivalent plastic strain")"
+          plastic=$(awk -v s="$pshare" -v x="$pmax" 'BEGIN { printf "%.1f%%, %.3g", 100 * s, x }')
+        fi
+        local label="-"
+        case $m in
+          lps) label="influence $([ "$s" = lammps ] && echo lammps || echo "$infl")";;
+          eps|ves) label="omega 1";;
+        esac
+        awk -F, -v th="$refdir/thermo.txt" -v m="${m^^}" -v v="$v" -v s="$label" -v ref="$ref" -v mean="$mean" \
+            -v steps="$STEPS" -v plastic="$plastic" '
           BEGIN { while ((getline line < th) > 0) { split(line, a, " "); lke[a[1]] = a[2]; lpe[a[1]] = a[3]; ldave[a[1]] = a[4]; ldmax[a[1]] = a[5] } }
           NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
-          { st = $col["step"] + 0; ke[st] = $col["kinetic_energy"]; se[st] = $col["strain_energy"]; dm[st] = $col["max_damage"] }
+          { st = $col["step"] + 0; ke[st] = $col["kinetic_energy"]; se[st] = $col["strain_energy"]; dm[st] = $col["max_damage"]
+            ds[st] = ("material_dissipation" in col) ? $col["material_dissipation"] : 0 }
           END {
             worst = 0
             for (st in lke) if (st in ke) { d = ke[st] / lke[st] - 1; if (d < 0) d = -d; if (d > worst) worst = d }
-            printf "| %s | %s | %s | %.2e | %.6g | %.6g | %.5f | %.5f | %s / %.4f | %.4f / %.4f |\n", m, v, s, worst,
-              ke[steps], lke[steps], (ke[steps] + se[steps]) / ke[0], (lke[steps] + lpe[steps]) / lke[0],
-              mean, ldave[steps], dm[steps], ldmax[steps]
+            printf "| %s | %s | %s | %s | %.2e | %.6g | %.6g | %.5f | %.5f | %.5f | %s / %s | %.4f / %.4f | %s |\n", m, v, s, ref, worst,
+              ke[steps], lke[steps], (ke[steps] + se[steps] + ds[steps]) / ke[0], ds[steps] / ke[0],
+              (lke[steps] + lpe[steps]) / lke[0], mean, ldave[steps], dm[steps], ldmax[steps], plastic
           }' "$dir/output/cube.globals.csv" >> "$md"
       done
     done
@@ -522,7 +609,7 @@ OUT=$(cd "$OUT" && pwd)
   fi
   echo "bench script repository: $(git -C "$root" rev-parse --short HEAD 2>/dev/null)"
   echo "lammps: $(dpkg-query -W -f='${Version}' lammps 2>/dev/null)"
-  echo "options: --models \"$MODELS\" --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS$([ "$PAIR" = 1 ] && echo ' --pair') --globals-freq $FREQ --lps-influence '$LPS_INFLUENCE'"
+  echo "options: --models \"$MODELS\" --yield $YIELD --viscous-fraction $VFRAC --relaxation-time $TAU --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS$([ "$PAIR" = 1 ] && echo ' --pair') --globals-freq $FREQ --lps-influence '$LPS_INFLUENCE'"
 } > "$OUT/machine.txt"
 cat "$OUT/machine.txt"
 
@@ -554,13 +641,13 @@ run_perideal() { # model variant n np rep
     loop=$(awk -v b="$bonds" -v s="$STEPS" -v u="$upd" 'BEGIN { printf "%.6g", b * s / (u * 1e6) }')
     upd=$(awk -v u="$upd" 'BEGIN { printf "%.6g", u * 1e6 }')
   fi
-  local ke0 ke se br md
-  read -r ke0 ke se br md <<< "$(pd_globals "$dir/output/cube.globals.csv")"
+  local ke0 ke se br md ds
+  read -r ke0 ke se br md ds <<< "$(pd_globals "$dir/output/cube.globals.csv")"
   local tf td tg ti to ts
   tf=$(pd_timer "$dir/pd.log" force); td=$(pd_timer "$dir/pd.log" damage)
   tg=$(pd_timer "$dir/pd.log" "ghost exchange"); ti=$(pd_timer "$dir/pd.log" "time integration")
   to=$(pd_timer "$dir/pd.log" output); ts=$(pd_timer "$dir/pd.log" "global sums")
-  printf '%s\n' "perideal $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $se $br $md - $tf $td $tg $ti $to $cpu $load $scene $ts" | tr ' ' '\t' >> "$tsv"
+  printf '%s\n' "perideal $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $se $br $md - $tf $td $tg $ti $to $cpu $load $scene $ts $ds" | tr ' ' '\t' >> "$tsv"
   report perideal "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$upd" "$peak" "$ke" "$cpu"
 }
 
@@ -583,7 +670,7 @@ run_perideal_pair() { # model variant n rep
     total=$(awk -v t="$total" -v r="$rate" 'BEGIN { printf "%.6g", t + r * 1e6 }')
   done
   bonds=$(awk '/^  bonds:/ && /\(directed\)$/ { b = $2 } END { print b }' "$dir/0/pd.log")
-  printf '%s\n' "perideal $m $v $n pair $rep $status - ${bonds:-0} $total - - - - - - - - - - - - - $load - -" | tr ' ' '\t' >> "$tsv"
+  printf '%s\n' "perideal $m $v $n pair $rep $status - ${bonds:-0} $total - - - - - - - - - - - - - $load - - -" | tr ' ' '\t' >> "$tsv"
   printf '%s perideal %-3s %-10s n=%-3s two 1-rank runs at once, rep %s: %-6s %8.2f M bond updates/s in all\n' \
     "$(date +%T)" "$m" "$v" "$n" "$rep" "$status" "$(awk -v u="$total" 'BEGIN { print u / 1e6 }')"
 }
@@ -596,7 +683,7 @@ run_lammps() { # model variant n np rep
   local load; load=$(loadavg)
   (cd "$dir" && mpirun -np "$np" --bind-to core "$here/lammps/rank_wrap.sh" lmp \
      lmp -in "$here/lammps/in.cube_$m" -var n "$n" -var s00 "$sc" -var vamp "$vamp" -var nsteps "$STEPS" \
-     -log lmp.log -screen none > lmp.out 2>&1)
+     $(lmp_vars "$m") -log lmp.log -screen none > lmp.out 2>&1)
   local rc=$? status=ok loop bonds upd peak cpu rss
   loop=$(awk '/^Loop time of/ { t = $4 } END { print t }' "$dir/lmp.log" 2>/dev/null)
   cpu=$(awk '/% CPU use with/ { c = $1 } END { sub(/%/, "", c); print (c == "" ? "-" : c) }' "$dir/lmp.log" 2>/dev/null)
@@ -613,7 +700,7 @@ run_lammps() { # model variant n np rep
   read -r ke0 ke pe dave dmax <<< "$(lmp_thermo_rows "$dir/lmp.log" 2>/dev/null | awk -v n="$n" -v s="$STEPS" '
     { r[$1] = $0 } END { V = 1 / (n * n * n); if (!(0 in r) || !(s in r)) { print "- - - - -"; exit }
       split(r[0], a, " "); split(r[s], b, " "); printf "%.10g %.10g %.10g %s %s\n", a[2] * V, b[2] * V, b[3] * V, b[4], b[5] }')"
-  printf '%s\n' "lammps $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $pe - $dmax $dave 0 0 0 0 0 $cpu $load - 0" | tr ' ' '\t' >> "$tsv"
+  printf '%s\n' "lammps $m $v $n $np $rep $status $loop $bonds $upd $peak $ke0 $ke $pe - $dmax $dave 0 0 0 0 0 $cpu $load - 0 0" | tr ' ' '\t' >> "$tsv"
   report lammps "$m" "$v" "$n" "$np" "$rep" "$status" "$loop" "$upd" "$peak" "$ke" "$cpu"
 }
 
@@ -624,7 +711,7 @@ for rep in $(seq 1 "$REPS"); do
         for np in $RANKS; do
           has perideal "$CODES" && run_perideal "$m" "$v" "$n" "$np" "$rep"
           has perideal "$CODES" && [ "$PAIR" = 1 ] && [ "$np" = 1 ] && run_perideal_pair "$m" "$v" "$n" "$rep"
-          has lammps "$CODES" && run_lammps "$m" "$v" "$n" "$np" "$rep"
+          has lammps "$CODES" && has_lammps "$m" && run_lammps "$m" "$v" "$n" "$np" "$rep"
         done
       done
     done
