@@ -4,7 +4,8 @@
 // so no material is named here or there).
 //
 // Parameters, found generically: the model's keys are declared into a
-// ParameterHandler; Density gets rho = 1.3 and the moduli the first of
+// ParameterHandler; Density gets rho = 1.3, Yield stress 1000 (the defaults
+// variant stays elastic) and the moduli the first of
 // {Bulk modulus}, {Bulk modulus, Shear modulus}, {Young's modulus, Poisson's
 // ratio} (K = 2.5, G = 1.1, nu = 0.31) that the model declares and accepts
 // (a bond-based model takes K alone, its nu being 1/4); every other key keeps
