@@ -13,7 +13,7 @@
 # (0.08, 0.15, 0) in one load step: 8% stretch and a lateral offset of 15% of
 # the length, so the bar bends and turns (geometric nonlinearity) and Newton
 # starts far from the solution. K = 1, G = 0.5 (PMB: K = 1 only), rho = 1.
-# Elastic plastic: yield stress 0.01 (the step crosses it: yield strain about
+# Elastic plastic (and its correspondence twin): yield stress 0.01 (the step crosses it: yield strain about
 # 0.008), hardening 0.1. Viscoelastic: relaxation time 1 = the load step,
 # viscous fraction 0.5. Newton tolerance 1e-13 (relative), line search on,
 # GMRES (a finite-difference tangent need not be exactly symmetric) with AMG,
@@ -56,6 +56,7 @@ keys_of() {
     "PMB") echo "Bulk modulus = 1";;
     "LPS"|"Elastic correspondence") echo "Bulk modulus = 1;Shear modulus = 0.5";;
     "Elastic plastic") echo "Bulk modulus = 1;Shear modulus = 0.5;Yield stress = 0.01;Hardening modulus = 0.1";;
+    "Elastic plastic correspondence") echo "Bulk modulus = 1;Shear modulus = 0.5;Yield stress = 0.01;Hardening modulus = 0.1";;
     "Viscoelastic") echo "Bulk modulus = 1;Shear modulus = 0.5;Relaxation time = 1;Viscous fraction = 0.5";;
     *) return 1;;
   esac

@@ -48,7 +48,7 @@ namespace perideal
     std::string models;
     for_each_model([&](const std::string &name, const std::vector<PointField> &fields) {
       if (std::any_of(fields.begin(), fields.end(), [&](const auto &f) { return f.output_name == output_name; }))
-        models += (models.empty() ? "" : ", ") + name;
+        models += (models.empty() ? "" : " or ") + name;
     });
     return models;
   }

@@ -49,7 +49,7 @@ namespace perideal
       AssertThrow(!output.wants(f.output_name) || model.field(f.name),
                   ExcMessage("Output/Variables: '" + f.output_name + "' is a field of " +
                              models_with_output(f.output_name) + ", and no block of this scene uses " +
-                             "that model: remove it from Output/Variables"));
+                             "such a model: remove it from Output/Variables"));
     for (auto &v : output_variables(model_fields))
       if (output.wants(v.name))
         fields.push_back(std::move(v));

@@ -29,7 +29,7 @@ namespace perideal
   std::vector<PointField>
   model_output_fields();
   /// The registered materials and damage models that offer the output
-  /// variable @p output_name, as "A, B" (for error messages).
+  /// variable @p output_name, as "A or B" (for error messages).
   std::string
   models_with_output(const std::string &output_name);
 
