@@ -53,6 +53,7 @@ namespace perideal
                       "C >= 0 of Stabilization = Hourglass (Peridigm's examples use 0.02).");
     prm.declare_entry("Silling coefficient", "0.02", Patterns::Double(), "C >= 0 of Stabilization = Silling.");
     declare_thermal_expansion(prm);
+    declare_elastic_constants(prm);
   }
 
   void
@@ -70,6 +71,9 @@ namespace perideal
                 ExcMessage(path + "/Hourglass coefficient must be >= 0, not " + prm.get("Hourglass coefficient")));
     AssertThrow(std::isfinite(silling_coefficient) && silling_coefficient >= 0,
                 ExcMessage(path + "/Silling coefficient must be >= 0, not " + prm.get("Silling coefficient")));
+    const ElasticConstants moduli = parse_elastic_constants(prm, path);
+    K                             = moduli.K;
+    G                             = moduli.G;
   }
 
   std::vector<PointField>

@@ -15,7 +15,6 @@
 // to the field corr_cauchy is P F^T / det F.
 
 #include <perideal/material/correspondence.h>
-#include <perideal/material/elastic_constants.h>
 
 namespace perideal
 {
@@ -32,7 +31,6 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       declare_kinematics_parameters(prm);
-      declare_elastic_constants(prm);
       prm.declare_entry("Strain measure", "Green-Lagrange", Patterns::Selection("Green-Lagrange|Small strain"),
                         "Green-Lagrange: St. Venant-Kirchhoff, S = lambda tr(E) I + 2 G E, E = (F^T F - I)/2, "
                         "P = F S. Small strain: corotational Hooke, F = R U, eps = U - I, sigma = R (lambda "
@@ -44,9 +42,6 @@ namespace perideal
     parse_parameters(ParameterHandler &prm, const std::string &path_) override
     {
       parse_kinematics_parameters(prm, path_);
-      const ElasticConstants moduli = parse_elastic_constants(prm, path);
-      K                             = moduli.K;
-      G                             = moduli.G;
       small_strain = prm.get("Strain measure") == "Small strain";
     }
 

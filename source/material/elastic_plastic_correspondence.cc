@@ -46,7 +46,6 @@
 // Tangent: none analytic; the implicit solvers use finite differences.
 
 #include <perideal/material/correspondence.h>
-#include <perideal/material/elastic_constants.h>
 
 #include <cmath>
 
@@ -65,7 +64,6 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       declare_kinematics_parameters(prm);
-      declare_elastic_constants(prm);
       prm.declare_entry("Yield stress", "0", Patterns::Double(),
                         "Initial von Mises yield stress Y0 > 0 (Peridigm's 'Yield Stress').");
       prm.declare_entry("Hardening modulus", "0", Patterns::Double(),
@@ -77,9 +75,6 @@ namespace perideal
     parse_parameters(ParameterHandler &prm, const std::string &path_) override
     {
       parse_kinematics_parameters(prm, path_);
-      const ElasticConstants moduli = parse_elastic_constants(prm, path);
-      K  = moduli.K;
-      G  = moduli.G;
       Y0 = prm.get_double("Yield stress");
       H  = prm.get_double("Hardening modulus");
       require_positive(Y0, path + "/Yield stress");

@@ -192,8 +192,8 @@ namespace perideal
     {}
 
     /// Declares Density, Stabilization, Hourglass coefficient, Silling
-    /// coefficient and Thermal expansion coefficient (not the moduli: the
-    /// model declares them).
+    /// coefficient, Thermal expansion coefficient and the elastic constants
+    /// (any two of K, G, E, nu; parse_kinematics_parameters() sets K and G).
     static void
     declare_kinematics_parameters(ParameterHandler &prm);
     /// Parses them (and sets path); the model sets K and G.
