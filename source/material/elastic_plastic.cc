@@ -29,8 +29,9 @@
 // replica of the other end's e^dp, updated by the same formula from j's
 // ghosted dilatation and return factor s_j, so both copies agree bit for bit.
 // Thermal strain: e = |y| - |xi| - (eps_T,i + eps_T,j)/2 |xi| (ordinary_state.h).
-// Bond damage: binary (state.broken; a broken bond keeps its e^dp); no
-// continuous damage. Blocks of different horizons are refused. Tangent: the
+// Bond damage: binary (state.broken; a broken bond keeps its e^dp), a
+// critical stretch applied in stage()'s first bond pass
+// (fuses_stretch_criterion()); no continuous damage. Blocks of different horizons are refused. Tangent: the
 // consistent tangent of the radial return (add_tangent()), so Newton converges
 // quadratically through yield.
 
@@ -114,7 +115,8 @@ namespace perideal
     std::vector<BondField>
     bond_fields() const override
     {
-      return {{"eps_edp"}, {"eps_edp_other"}};
+      // Rewritten whole at every evaluation (force()): commit() swaps N and NP1.
+      return {{"eps_edp", true}, {"eps_edp_other", true}};
     }
 
     void
@@ -126,8 +128,9 @@ namespace perideal
     void
     compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      variants(state, [&](auto W, auto P, auto D, auto T) {
-        stage<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value>(state, points);
+      OrdinaryState::stage_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
+        stage<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value, decltype(B)::value>(
+          state, points);
       });
     }
 
@@ -142,6 +145,12 @@ namespace perideal
         else
           force<w, p, d, t, false>(state, points);
       });
+    }
+
+    bool
+    fuses_stretch_criterion() const override
+    {
+      return true; // in stage()
     }
 
     double
@@ -215,11 +224,13 @@ namespace perideal
       OrdinaryState::variants(state, f);
     }
 
-    /// The dilatation, the return factor s and the point history of each point.
-    template <bool weighted, bool periodic, bool damaged, bool thermal>
+    /// The dilatation, the return factor s and the point history of each
+    /// point; with @p breaking, first the fused critical stretch.
+    template <bool weighted, bool periodic, bool damaged, bool thermal, bool breaking>
     void
     stage(const ModelState &state, const std::vector<unsigned int> &points) const
     {
+      std::size_t         newly_broken = 0;
       const double       *V        = state.cloud.volume.data();
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
@@ -238,16 +249,18 @@ namespace perideal
           Dp[i]    = D_N[i];
           scale[i] = 1;
           theta[i] = 0;
-          if (m[i] == 0)
-            continue;
           const BondOrigin origin(state.cloud.X.data(), state.u, i);
           double           sum = 0;
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
+              if constexpr (breaking)
+                newly_broken += OrdinaryState::break_bond<periodic>(state, origin, neighbor[b], b);
               double y[3], r0, r, e;
               OrdinaryState::bond<periodic, thermal>(state, origin, i, neighbor[b], y, r0, r, e);
               sum += OrdinaryState::weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
             }
+          if (m[i] == 0)
+            continue;
           const double th = 3 * sum / m[i];
           double       norm2 = 0; // ||e^d - e^dp_N||^2
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
@@ -268,6 +281,8 @@ namespace perideal
               Dp[i]          = D_N[i] + (Y_N + 0.5 * H * a) * a;
             }
         }
+      if constexpr (breaking)
+        state.breaking->newly_broken += newly_broken;
     }
 
     template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy>

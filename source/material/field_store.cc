@@ -86,6 +86,7 @@ namespace perideal
     BondEntry &e = bond_fields[field.name];
     e.now.assign(n_bonds, 0.0);
     e.old.assign(n_bonds, 0.0);
+    e.rewritten = field.rewritten;
   }
 
   FieldStore::Entry &
@@ -114,6 +115,7 @@ namespace perideal
     AssertThrow(it != bond_fields.end(),
                 ExcMessage("the per-bond field '" + name +
                            "' was not declared: a model lists the fields it uses in bond_fields()"));
+    bonds_written = true;
     return it->second.now.data();
   }
 
@@ -147,7 +149,11 @@ namespace perideal
       if (e.spec.use == FieldUse::history)
         e.old = e.now;
     for (auto &[name, e] : bond_fields)
-      std::copy(e.now.begin(), e.now.end(), e.old.begin());
+      if (!e.rewritten)
+        std::copy(e.now.begin(), e.now.end(), e.old.begin());
+      else if (bonds_written)
+        e.now.swap(e.old);
+    bonds_written = false;
   }
 
   bool

@@ -24,7 +24,8 @@
 // live on j's owner: every bond keeps replicas, updated by the same formula
 // from j's ghosted dilatation, so both copies agree bit for bit.
 // Thermal strain: e = |y| - |xi| - (eps_T,i + eps_T,j)/2 |xi| (ordinary_state.h).
-// Bond damage: binary (state.broken); blocks of different horizons are
+// Bond damage: binary (state.broken); a critical stretch runs in stage()'s
+// first bond pass (fuses_stretch_criterion()). Blocks of different horizons are
 // refused. Tangent: analytic (add_tangent(); LPS's with the step's relaxed
 // deviatoric modulus), so Newton converges quadratically.
 
@@ -104,8 +105,9 @@ namespace perideal
     std::vector<BondField>
     bond_fields() const override
     {
-      // e^d and e^b of the bond's own half, and replicas of the other end's.
-      return {{"ves_ed"}, {"ves_eb"}, {"ves_ed_other"}, {"ves_eb_other"}};
+      // e^d and e^b of the bond's own half, and replicas of the other end's; rewritten
+      // whole at every evaluation (force()): commit() swaps N and NP1.
+      return {{"ves_ed", true}, {"ves_eb", true}, {"ves_ed_other", true}, {"ves_eb_other", true}};
     }
 
     void
@@ -117,8 +119,9 @@ namespace perideal
     void
     compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      variants(state, [&](auto W, auto P, auto D, auto T) {
-        stage<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value>(state, points);
+      OrdinaryState::stage_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
+        stage<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value, decltype(B)::value>(
+          state, points);
       });
     }
 
@@ -133,6 +136,12 @@ namespace perideal
         else
           force<w, p, d, t, false>(state, points);
       });
+    }
+
+    bool
+    fuses_stretch_criterion() const override
+    {
+      return true; // in stage()
     }
 
     double
@@ -187,10 +196,12 @@ namespace perideal
       OrdinaryState::variants(state, f);
     }
 
-    template <bool weighted, bool periodic, bool damaged, bool thermal>
+    /// The dilatation; with @p breaking, first the fused critical stretch.
+    template <bool weighted, bool periodic, bool damaged, bool thermal, bool breaking>
     void
     stage(const ModelState &state, const std::vector<unsigned int> &points) const
     {
+      std::size_t         newly_broken = 0;
       const double       *V        = state.cloud.volume.data();
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
@@ -202,12 +213,16 @@ namespace perideal
           double           sum = 0;
           for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
             {
+              if constexpr (breaking)
+                newly_broken += OrdinaryState::break_bond<periodic>(state, origin, neighbor[b], b);
               double y[3], r0, r, e;
               OrdinaryState::bond<periodic, thermal>(state, origin, i, neighbor[b], y, r0, r, e);
               sum += OrdinaryState::weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
             }
           theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
         }
+      if constexpr (breaking)
+        state.breaking->newly_broken += newly_broken;
     }
 
     template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy>

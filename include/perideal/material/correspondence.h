@@ -120,8 +120,8 @@ namespace perideal
         double w = fraction ? double(fraction[b]) : 1.0;
         if (mode == BondDamage::continuous)
           w *= 1.0 - d[b];
-        else if (mode == BondDamage::read)
-          w *= 1.0 - broken[b];
+        else if (mode != BondDamage::none)
+          w *= 1.0 - broken[b]; // read, breaking (after the fused test)
         return w;
       }
 
@@ -179,6 +179,13 @@ namespace perideal
       return true;
     }
 
+    /// The critical stretch runs in the deformation pass (compute_deformation()).
+    bool
+    fuses_stretch_criterion() const override
+    {
+      return true;
+    }
+
     void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override;
 
@@ -217,6 +224,8 @@ namespace perideal
         constexpr bool P = decltype(periodic)::value;
         if (state.damage)
           deformation<BondDamage::continuous, P>(state, points, law, degenerate);
+        else if (state.breaking)
+          deformation<BondDamage::breaking, P>(state, points, law, degenerate);
         else if (state.broken)
           deformation<BondDamage::read, P>(state, points, law, degenerate);
         else
@@ -254,6 +263,7 @@ namespace perideal
       double       *Wf    = state.fields.get("corr_energy").begin();
       double       *live  = stabilization != 0 ? state.fields.get("corr_live").begin() : nullptr;
       const double *eps_T = state.thermal_strain; // alpha dT per point, or nullptr
+      std::size_t   newly_broken = 0;
       for (const unsigned int i : points)
         {
           const BondOrigin origin(fam.X, fam.u, i);
@@ -263,6 +273,10 @@ namespace perideal
               const unsigned int j = fam.neighbor[b];
               double             e[3], y[3];
               bond_vectors<periodic>(fam.X, fam.u, j, origin, fam.box, e, y);
+              if (mode == BondDamage::breaking)
+                newly_broken += break_if_overstretched(y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
+                                                       e[0] * e[0] + e[1] * e[1] + e[2] * e[2],
+                                                       state.breaking->squared_limit, state.breaking->broken[b]);
               const double wV = fam.weight<mode>(b) * fam.V[j];
               for (unsigned int p = 0; p < 3; ++p)
                 for (unsigned int q = 0; q < 3; ++q)
@@ -302,6 +316,8 @@ namespace perideal
           if (live)
             live[i] = 1;
         }
+      if (mode == BondDamage::breaking)
+        state.breaking->newly_broken += newly_broken;
     }
 
     template <BondDamage mode>

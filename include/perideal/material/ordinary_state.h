@@ -61,6 +61,36 @@ namespace perideal
       });
     }
 
+    /// variants() plus whether the stage pass applies the fused critical
+    /// stretch (ModelState::breaking, set only with binary damage): the
+    /// first bond pass then breaks each overstretched bond before it uses it,
+    /// and the core runs no damage pass of its own for the block.
+    template <typename F>
+    static void
+    stage_variants(const ModelState &state, const F &f)
+    {
+      variants(state, [&](auto W, auto P, auto D, auto T) {
+        if constexpr (decltype(D)::value)
+          with_flag(state.breaking != nullptr, [&](auto B) { f(W, P, D, T, B); });
+        else
+          f(W, P, D, T, std::false_type());
+      });
+    }
+
+    /// The fused critical stretch on bond @p b (i->j): the damage pass's
+    /// test (break_if_overstretched on the squared lengths) bit for bit;
+    /// returns 1 if the bond broke now.
+    template <bool periodic>
+    static std::uint8_t
+    break_bond(const ModelState &state, const BondOrigin &origin, const unsigned int j, const std::size_t b)
+    {
+      double ev[3], y[3];
+      bond_vectors<periodic>(state.cloud.X.data(), state.u, j, origin, state.cloud.periodicity, ev, y);
+      return break_if_overstretched(y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
+                                    ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2], state.breaking->squared_limit,
+                                    state.breaking->broken[b]);
+    }
+
     /// Bond i->j: |xi| (@p r0), |y| (@p r), the mechanical extension @p e; writes y.
     template <bool periodic, bool thermal>
     static void
