@@ -569,7 +569,7 @@ physics_check() { # out dir
 
 if [ -n "$SUMMARIZE" ]; then
   summarize "$SUMMARIZE/results.tsv"
-  [ -s "$SUMMARIZE/physics.md" ] && { echo; cat "$SUMMARIZE/physics.md"; }
+  if [ -s "$SUMMARIZE/physics.md" ]; then echo; cat "$SUMMARIZE/physics.md"; fi
   exit 0
 fi
 
@@ -731,5 +731,5 @@ echo
   cat "$OUT/machine.txt"
   echo
   summarize "$tsv"
-  [ -s "$OUT/physics.md" ] && { echo; cat "$OUT/physics.md"; }
+  if [ -s "$OUT/physics.md" ]; then echo; cat "$OUT/physics.md"; fi
 } | tee "$OUT/table.md"
