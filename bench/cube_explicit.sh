@@ -47,6 +47,10 @@
 #                          1-rank processes of it at once, one per core: the
 #                          machine's own ceiling for the 2-rank efficiency (no
 #                          MPI between them: what they lose is the machine's)
+#       --contact          PeriDeal with self contact on (Short range force,
+#                          contact radius 0.9 h, spring constant 15 K: what
+#                          LAMMPS' pair peri applies to every pair closer than
+#                          0.9 of its reference distance, always on)
 #       --no-physics       skip the physics check (n = 20, 1 rank, both codes,
 #                          kinetic energy every 50 steps; PeriDeal's mean damage
 #                          from its Damage field; LPS also with 'lammps' influence;
@@ -85,6 +89,7 @@ STEPS=200
 FREQ=200
 PHYSICS=1
 PAIR=0
+CONTACT=0
 LPS_INFLUENCE=1
 YIELD=0.002
 VFRAC=0.5
@@ -112,6 +117,7 @@ while [ $# -gt 0 ]; do
     --relaxation-time)  TAU=$2; shift 2;;
     --no-physics)    PHYSICS=0; shift;;
     --pair)          PAIR=1; shift;;
+    --contact)       CONTACT=1; shift;;
     -o|--out)        OUT=$2; shift 2;;
     --summarize)     SUMMARIZE=$2; shift 2;;
     -h|--help)       usage; exit 0;;
@@ -221,6 +227,19 @@ write_prm() { # model variant n file output-frequency output-variables lps-influ
       echo "  end"
     done
     echo "end"
+    if [ "$CONTACT" = 1 ]; then
+      echo "subsection Contact models"
+      echo "  set Names = short"
+      echo "  subsection short"
+      echo "    set Model = Short range force"
+      echo "    set Contact radius = $(awk -v n="$n" 'BEGIN { printf "%.15g", 0.9 / n }')"
+      echo "    set Spring constant = 15"
+      echo "  end"
+      echo "end"
+      echo "subsection Contact"
+      echo "  set Self contact model = short"
+      echo "end"
+    fi
     echo "subsection Solver"
     echo "  set Type = Verlet"
     echo "  set Number of steps = $STEPS"
@@ -609,7 +628,7 @@ OUT=$(cd "$OUT" && pwd)
   fi
   echo "bench script repository: $(git -C "$root" rev-parse --short HEAD 2>/dev/null)"
   echo "lammps: $(dpkg-query -W -f='${Version}' lammps 2>/dev/null)"
-  echo "options: --models \"$MODELS\" --yield $YIELD --viscous-fraction $VFRAC --relaxation-time $TAU --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS$([ "$PAIR" = 1 ] && echo ' --pair') --globals-freq $FREQ --lps-influence '$LPS_INFLUENCE'"
+  echo "options: --models \"$MODELS\" --yield $YIELD --viscous-fraction $VFRAC --relaxation-time $TAU --variants \"$VARIANTS\" --sizes \"$SIZES\" --ranks \"$RANKS\" --reps $REPS --codes \"$CODES\" --steps $STEPS$([ "$PAIR" = 1 ] && echo ' --pair') --globals-freq $FREQ --lps-influence '$LPS_INFLUENCE'$([ "$CONTACT" = 1 ] && echo ' --contact')"
 } > "$OUT/machine.txt"
 cat "$OUT/machine.txt"
 

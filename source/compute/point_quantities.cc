@@ -54,6 +54,56 @@ namespace perideal
   };
 
   template <unsigned int c>
+  class Velocity : public ComponentQuantity<c>
+  {
+  public:
+    double
+    value(const ComputeData &data, const unsigned int i) const override
+    {
+      return data.state.velocity.local_element(dim * i + c);
+    }
+    double
+    node_value(const ComputeData &data, const unsigned int k) const override
+    {
+      return data.continuum->V.local_element(data.continuum->nodes[k].local);
+    }
+  };
+
+  template <unsigned int c>
+  class Momentum : public ComponentQuantity<c>
+  {
+  public:
+    double
+    value(const ComputeData &data, const unsigned int i) const override
+    {
+      return data.state.mass_density[i] * data.cloud.volume[i] * data.state.velocity.local_element(dim * i + c);
+    }
+    double
+    node_value(const ComputeData &data, const unsigned int k) const override
+    {
+      const unsigned int local = data.continuum->nodes[k].local;
+      return data.continuum->mass.local_element(local) * data.continuum->V.local_element(local);
+    }
+  };
+
+  /// Component c of m (y x v) about the origin, y = X + u the current position.
+  template <unsigned int c>
+  class AngularMomentum : public PointQuantity
+  {
+  public:
+    double
+    value(const ComputeData &data, const unsigned int i) const override
+    {
+      constexpr unsigned int a = (c + 1) % 3, b = (c + 2) % 3;
+      const double          *u = data.state.displacement.begin() + dim * i;
+      const double          *v = data.state.velocity.begin() + dim * i;
+      const double          *X = data.cloud.X.data() + dim * i;
+      return data.state.mass_density[i] * data.cloud.volume[i] *
+             ((X[a] + u[a]) * v[b] - (X[b] + u[b]) * v[a]);
+    }
+  };
+
+  template <unsigned int c>
   class Position : public ComponentQuantity<c>
   {
   public:
@@ -118,6 +168,15 @@ namespace perideal
   using ForceX        = Force<0>;
   using ForceY        = Force<1>;
   using ForceZ        = Force<2>;
+  using VelocityX     = Velocity<0>;
+  using VelocityY     = Velocity<1>;
+  using VelocityZ     = Velocity<2>;
+  using MomentumX     = Momentum<0>;
+  using MomentumY     = Momentum<1>;
+  using MomentumZ     = Momentum<2>;
+  using AngularMomentumX = AngularMomentum<0>;
+  using AngularMomentumY = AngularMomentum<1>;
+  using AngularMomentumZ = AngularMomentum<2>;
   using PositionX     = Position<0>;
   using PositionY     = Position<1>;
   using PositionZ     = Position<2>;
@@ -125,6 +184,10 @@ namespace perideal
   const char *const doc_displacement = "of a point.";
   const char *const doc_force = "the force on a point, V f (force density times volume), internal plus body force; its "
                             "sum over a region of prescribed points is minus the reaction there.";
+  const char *const doc_momentum = "rho V v of a point (with Sum over All: the linear momentum of the body; "
+                                   "FE nodes: lumped mass times velocity).";
+  const char *const doc_angular = "rho V (y x v) of a point about the origin, y its current position (with Sum "
+                                  "over All: the angular momentum of the PD points).";
   const char *const doc_position = "the reference position of a point (with Mean: where a region's mean displacement "
                                "is taken, e.g. for the length of a virtual strain gauge).";
   PERIDEAL_REGISTER(PointQuantity, DisplacementX, "Displacement x", doc_displacement)
@@ -133,6 +196,15 @@ namespace perideal
   PERIDEAL_REGISTER(PointQuantity, ForceX, "Force x", doc_force)
   PERIDEAL_REGISTER(PointQuantity, ForceY, "Force y", doc_force)
   PERIDEAL_REGISTER(PointQuantity, ForceZ, "Force z", doc_force)
+  PERIDEAL_REGISTER(PointQuantity, VelocityX, "Velocity x", "of a point.")
+  PERIDEAL_REGISTER(PointQuantity, VelocityY, "Velocity y", "of a point.")
+  PERIDEAL_REGISTER(PointQuantity, VelocityZ, "Velocity z", "of a point.")
+  PERIDEAL_REGISTER(PointQuantity, MomentumX, "Momentum x", doc_momentum)
+  PERIDEAL_REGISTER(PointQuantity, MomentumY, "Momentum y", doc_momentum)
+  PERIDEAL_REGISTER(PointQuantity, MomentumZ, "Momentum z", doc_momentum)
+  PERIDEAL_REGISTER(PointQuantity, AngularMomentumX, "Angular momentum x", doc_angular)
+  PERIDEAL_REGISTER(PointQuantity, AngularMomentumY, "Angular momentum y", doc_angular)
+  PERIDEAL_REGISTER(PointQuantity, AngularMomentumZ, "Angular momentum z", doc_angular)
   PERIDEAL_REGISTER(PointQuantity, PositionX, "Position x", doc_position)
   PERIDEAL_REGISTER(PointQuantity, PositionY, "Position y", doc_position)
   PERIDEAL_REGISTER(PointQuantity, PositionZ, "Position z", doc_position)

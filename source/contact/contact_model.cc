@@ -5,4 +5,11 @@
 namespace perideal
 {
   template class Registry<ContactModel>;
+
+  void
+  declare_contact_model_entry(ParameterHandler &prm)
+  {
+    prm.declare_entry("Model", "", dealii::Patterns::Anything(),
+                      "The contact model: one of " + Registry<ContactModel>::instance().names(", ") + ".");
+  }
 } // namespace perideal

@@ -29,6 +29,7 @@ namespace perideal
     , regions(deck.regions)
     , bond_filters(deck.bond_filters)
     , blocks(deck.blocks)
+    , contact(deck.contact)
     , has_continuum(deck.has_continuum)
     , triangulation(comm)
     , fe(FESystem<dim>(FE_DGQ<dim>(0), dim), FESystem<dim>(FE_Q<dim>(1), dim), FESystem<dim>(FE_Q<dim>(2), dim))
@@ -330,11 +331,13 @@ namespace perideal
   void
   Discretization::check_isolated_points() const
   {
-    // A point without a neighbor cannot carry load: a horizon below the spacing.
+    // A point without a neighbor cannot carry load: a horizon below the
+    // spacing. Only in a block in contact may a point be a free particle.
       unsigned int isolated = 0;
       BestPoint    first(BestPoint::Order::smallest); // the smallest global id
       for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-        if (bonds.offsets[i + 1] == bonds.offsets[i] && !is_virtual(i)) // see drop_unweighted_bonds()
+        if (bonds.offsets[i + 1] == bonds.offsets[i] && !is_virtual(i) && // see drop_unweighted_bonds()
+            !contact.involves(blocks[cloud.block[i]].name)) // a particle that only touches others
           {
             ++isolated;
             first.consider(0, cloud.gid[i], &cloud.X[3 * i], BestPoint::Kind::point, cloud.block[i]);

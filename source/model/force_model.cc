@@ -2,6 +2,7 @@
 
 #include <perideal/base/format.h>
 #include <perideal/continuum/coupling.h>
+#include <perideal/contact/contact.h>
 #include <perideal/model/force_model.h>
 
 #include <deal.II/base/mpi.h>
@@ -282,6 +283,9 @@ namespace perideal
         damage_updates += b.newly_broken;
         b.newly_broken = 0;
       }
+    if (contact)
+      contact->add_forces(mechanical.displacement, mechanical.velocity, broken.empty() ? nullptr : broken.data(),
+                          mechanical.force.begin(), time, dt);
     if (!body_force->empty())
       for (unsigned int k = 0; k < dim * n; ++k)
         mechanical.force.local_element(k) += (*body_force)[k];
@@ -309,7 +313,8 @@ namespace perideal
           {
             const double dt_block = b.material->stable_time_step(state, b.points);
             // The largest double: no point of the block has any stiffness.
-            bad[k] = !(dt_block > 0 && dt_block < std::numeric_limits<double>::max());
+            // (With contact its points may be particles without bonds.)
+            bad[k] = !(dt_block > 0 && (dt_block < std::numeric_limits<double>::max() || contact));
             local                 = std::min(local, dt_block);
           }
       }
@@ -326,7 +331,15 @@ namespace perideal
                                "leaves the range of double (the micromodulus is about 18 K / (pi horizon^4)). " +
                                "Give the constants and lengths in units that keep them nearer to 1 (e.g. MPa, mm)"));
       }
-    const double pd = Utilities::MPI::min(local, comm);
+    double pd = Utilities::MPI::min(local, comm);
+    if (contact)
+      {
+        // A point in contact has the material's and the contact's stiffness
+        // in its row: their squared frequencies add.
+        const double dt_contact = contact->stable_time_step(time);
+        if (dt_contact < std::numeric_limits<double>::max())
+          pd = 1 / std::sqrt(1 / (pd * pd) + 1 / (dt_contact * dt_contact));
+      }
     return coupling ? std::min(pd, fe) : pd;
   }
 

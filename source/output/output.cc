@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include <unistd.h>
@@ -105,6 +106,9 @@ namespace perideal
                       "Write a globals row every this many steps (plus the first and the last); 0: "
                       "with the fields (Frequency). A fine history (reaction force, crack tip probes) "
                       "without field files at every row.");
+    prm.declare_entry("Globals digits", "10", Patterns::Integer(6, std::numeric_limits<double>::max_digits10),
+                      "Significant digits of the values in the globals CSV; 17: every digit of a double (a "
+                      "conservation check to round-off reads them back exactly).");
     prm.declare_entry("Write globals", "true", Patterns::Bool(),
                       "Write <base name>.globals.csv with step, time, kinetic_energy, "
                       "strain_energy, broken_bonds, max_damage and more, a row per "
@@ -118,6 +122,7 @@ namespace perideal
     base_name = prm.get("Base name");
     frequency = prm.get_integer("Frequency");
     globals_frequency = prm.get_integer("Globals frequency");
+    globals_digits    = prm.get_integer("Globals digits");
     globals   = prm.get_bool("Write globals");
     variables.clear();
     for (const auto &v : Utilities::split_string_list(prm.get("Variables"), ','))
@@ -263,7 +268,7 @@ namespace perideal
         csv_lines.push_back(header);
       }
     std::ostringstream line;
-    line << std::setprecision(10);
+    line << std::setprecision(globals_digits);
     for (unsigned int c = 0; c < row.size(); ++c)
       line << (c ? "," : "") << row[c].second;
     csv_lines.push_back(line.str());

@@ -7,6 +7,7 @@
 #include <perideal/conditions/condition_set.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
+#include <perideal/contact/contact.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
 #include <perideal/solver/time_integrator.h>
@@ -135,6 +136,12 @@ namespace perideal
                                                     {"external_work", record.external_work},
                                                     {"broken_bonds", broken_bonds},
                                                     {"max_damage", max_damage}};
+    if (const Contact *contact = model.contact_forces())
+      {
+        record.last_contact_energy = Utilities::MPI::sum(contact->energy, comm);
+        row.emplace_back("contact_energy", record.last_contact_energy);
+        row.emplace_back("contact_dissipation", record.contact_dissipation);
+      }
     // Only a scene with a dissipating material gets the column.
     if (model.field_store().tracks_dissipation())
       {
@@ -369,13 +376,19 @@ namespace perideal
     if (material_dissipation)
       pcout << "  material dissipation:   " << sci(record.material_dissipation, 6)
             << " (plastic and viscous work of the materials, sum V_i D_i, at the last globals row)\n";
+    const Contact *contact = model.contact_forces();
+    if (contact)
+      pcout << "  contact:                energy " << sci(record.last_contact_energy, 6) << ", friction work "
+            << sci(record.contact_dissipation, 6) << "; the list built " << contact->builds
+            << " times, search radius " << sci(contact->search_radius(), 4) << "\n";
     if (e_ref > 0)
       pcout << "  energy balance error:   "
             << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy +
-                    record.material_dissipation - record.initial_energy - record.external_work) /
+                    record.material_dissipation + record.last_contact_energy + record.contact_dissipation -
+                    record.initial_energy - record.external_work) /
                      e_ref,
                    3)
-            << " (kinetic + strain" << (dissipation ? " + dissipated" : "")
+            << " (kinetic + strain" << (contact ? " + contact + friction work" : "") << (dissipation ? " + dissipated" : "")
             << (material_dissipation ? " + material dissipation" : "") << " - initial - external work, relative)\n";
     pcout << "  warnings:               " << (record.warnings.empty() ? std::string("none") : std::to_string(record.warnings.size()))
           << "\n";

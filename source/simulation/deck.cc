@@ -59,6 +59,8 @@ namespace perideal
 
     declare_model_section<Material>(prm, "Materials", names.materials, declare_material_model_entry);
     declare_model_section<DamageModel>(prm, "Damage models", names.damage_models, declare_damage_model_entry);
+    declare_model_section<ContactModel>(prm, "Contact models", names.contact_models, declare_contact_model_entry);
+    ContactParameters::declare_parameters(prm, names.contact_interactions);
 
     prm.enter_subsection("Blocks");
     declare_names_entry(prm, "blocks; a cell belongs to the first block that claims it");
@@ -157,6 +159,9 @@ namespace perideal
       names.materials["My " + m.first + " material"] = m.first;
     for (const auto &m : Registry<DamageModel>::instance().all())
       names.damage_models["My " + m.first + " model"] = m.first;
+    for (const auto &m : Registry<ContactModel>::instance().all())
+      names.contact_models["My " + m.first + " model"] = m.first;
+    names.contact_interactions = {"My interaction"};
     ParameterHandler prm;
     declare_parameters(prm, names);
     auto set_names = [&](const std::vector<std::string> &path, const std::string &list) {
@@ -176,10 +181,13 @@ namespace perideal
     set_names({"Discretization", "Bond filters"}, "My filter");
     set_names({"Materials"}, join(names.materials));
     set_names({"Damage models"}, join(names.damage_models));
+    set_names({"Contact models"}, join(names.contact_models));
+    set_names({"Contact", "Interactions"}, "My interaction");
     set_names({"Blocks"}, "My block");
     set_names({"Boundary conditions"}, "My condition");
     for (const auto &[section, models] : {std::make_pair("Materials", &names.materials),
-                                           std::make_pair("Damage models", &names.damage_models)})
+                                           std::make_pair("Damage models", &names.damage_models),
+                                           std::make_pair("Contact models", &names.contact_models)})
       for (const auto &[name, model] : *models)
         {
           prm.enter_subsection(section);
@@ -200,6 +208,7 @@ namespace perideal
             << "Below, every model appears once under an example name.\n\n"
             << "Models: materials " << Registry<Material>::instance().names(", ")
             << "; damage models " << Registry<DamageModel>::instance().names(", ")
+            << "; contact models " << Registry<ContactModel>::instance().names(", ")
             << "; time integrators (Solver/Type) " << Registry<TimeIntegrator>::instance().names(", ")
             << "; continuum models (of every block of Type Continuum; no key chooses one yet) "
             << Registry<ContinuumModel>::instance().names(", ") << ".\n\n";
@@ -207,6 +216,8 @@ namespace perideal
           out << "- material `" << m.first << "`: " << m.second.documentation << "\n";
         for (const auto &m : Registry<DamageModel>::instance().all())
           out << "- damage model `" << m.first << "`: " << m.second.documentation << "\n";
+        for (const auto &m : Registry<ContactModel>::instance().all())
+          out << "- contact model `" << m.first << "`: " << m.second.documentation << "\n";
         for (const auto &m : Registry<ContinuumModel>::instance().all())
           out << "- continuum model `" << m.first << "`: " << m.second.documentation << "\n";
         out << "\n```\n";
@@ -245,6 +256,9 @@ namespace perideal
         names.materials[n] = "";
       for (const auto &n : read_list(prm, {"Damage models"}))
         names.damage_models[n] = "";
+      for (const auto &n : read_list(prm, {"Contact models"}))
+        names.contact_models[n] = "";
+      names.contact_interactions = read_list(prm, {"Contact", "Interactions"});
       for (const auto &r : names.regions)
         AssertThrow(r != "All", ExcMessage("Discretization/Regions/Names: 'All' is predefined; choose another name"));
     }
@@ -254,7 +268,8 @@ namespace perideal
       declare_parameters(prm, names);
       parse_input_file(prm, file, false);
       for (auto &[section, map] : std::vector<std::pair<std::string, std::map<std::string, std::string> *>>{
-             {"Materials", &names.materials}, {"Damage models", &names.damage_models}})
+             {"Materials", &names.materials}, {"Damage models", &names.damage_models},
+             {"Contact models", &names.contact_models}})
         {
           prm.enter_subsection(section);
           for (auto &entry : *map)
@@ -271,6 +286,8 @@ namespace perideal
         Registry<Material>::instance().get(model, "Materials/" + name + "/Model");
       for (const auto &[name, model] : names.damage_models)
         Registry<DamageModel>::instance().get(model, "Damage models/" + name + "/Model");
+      for (const auto &[name, model] : names.contact_models)
+        Registry<ContactModel>::instance().get(model, "Contact models/" + name + "/Model");
     }
     // Pass 3: everything, strictly.
     ParameterHandler prm;
@@ -406,6 +423,18 @@ namespace perideal
     deck.coupling.virtual_point_levels = levels == "auto" ? -1 : std::stoi(levels);
     prm.leave_subsection();
 
+    prm.enter_subsection("Contact models");
+    for (const auto &[name, model] : names.contact_models)
+      {
+        prm.enter_subsection(name);
+        auto instance = Registry<ContactModel>::instance().get(model, "").create();
+        instance->parse_parameters(prm, "Contact models/" + name);
+        deck.contact.models[name] = std::move(instance);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+    deck.contact.parse_parameters(prm, names.contact_interactions, names.blocks);
+
     prm.enter_subsection("Boundary conditions");
     for (const auto &name : names.conditions)
       {
@@ -455,6 +484,10 @@ namespace perideal
           deck.integrator = std::move(integrator);
       }
     prm.leave_subsection();
+    AssertThrow(!deck.contact.active() || solver.type == "Verlet",
+                ExcMessage("Contact: Solver/Type is " + solver.type +
+                           ", but contact acts in explicit runs only (Solver/Type = Verlet): the contact force has "
+                           "no tangent for Newton's method yet"));
     deck.integrator->check_parameters(solver, deck.has_continuum);
     AssertThrow(solver.requested_steps > 0 || solver.final_time > solver.initial_time,
                 ExcMessage("Solver/Final time must be after Solver/Initial time (or set "

@@ -4,6 +4,7 @@
 #include <perideal/base/format.h>
 #include <perideal/base/memory.h>
 #include <perideal/conditions/condition_set.h>
+#include <perideal/contact/contact.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/discretization/discretization.h>
 #include <perideal/model/force_model.h>
@@ -63,6 +64,14 @@ namespace perideal
     post->setup(coupling.get());
     conditions->setup_constraints();
     model->attach(conditions->body_force, coupling.get());
+    if (deck.contact.active())
+      {
+        TimerOutput::Scope t(timer, "setup: contact");
+        contact = std::make_unique<Contact>(deck.contact, model->blocks, discretization->cloud,
+                                            discretization->bonds, comm, timer);
+        contact->setup(state.mass_density, discretization->point_spacing());
+        model->attach_contact(contact.get());
+      }
 
     record.dt_stable = model->stable_time_step();
     deck.integrator->initialize(access());

@@ -37,7 +37,7 @@ namespace perideal
   SimulatorAccess::record_initial_state(const unsigned int n_steps, const double time) const
   {
     const auto row        = post.global_quantities(0, time);
-    record.initial_energy = row[2].second + row[3].second;
+    record.initial_energy = row[2].second + row[3].second + record.last_contact_energy;
     // Far from t = 0 a double cannot hold t + dt: time would stall (t + dt
     // == t) or advance in steps other than dt, silently. 1e-10 leaves each
     // step's time exact to 1e-6 of dt.

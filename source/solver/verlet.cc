@@ -12,6 +12,7 @@
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
 #include <perideal/conditions/condition_set.h>
+#include <perideal/contact/contact.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
@@ -147,7 +148,7 @@ namespace perideal
     bool         counted  = true; // n_steps steps; else up to Final time
     bool         adaptive = true; // the automatic step (shortened for fast points)
     double       time = 0, dt_elastic = 0, spacing = 0, speed = 0;
-    bool         fast_warned = false;
+    bool         fast_warned = false, contact_warned = false;
     std::chrono::steady_clock::time_point start, last_print;
     double                                last_percent = 0;
 
@@ -320,13 +321,16 @@ namespace perideal
           conditions.bad_condition = conditions.conditions.size(); // reported below by a collective search
     // The last entry: ranks that have received SIGTERM or SIGINT (the step
     // is finished, written if an output step, then the run stops).
-    double sums[5] = {ke, work, double(conditions.bad_condition), double(model.damage_updates - damage_so_far),
-                      local_interrupt_signal() != 0 ? 1.0 : 0.0};
+    const Contact *contact = model.contact_forces();
+    double sums[6] = {ke, work, double(conditions.bad_condition), double(model.damage_updates - damage_so_far),
+                      local_interrupt_signal() != 0 ? 1.0 : 0.0, contact ? contact->friction_power : 0.0};
     {
       TimerOutput::Scope t(timer, "global sums");
-      Utilities::MPI::sum(ArrayView<const double>(sums, 5), comm, ArrayView<double>(sums, 5));
+      Utilities::MPI::sum(ArrayView<const double>(sums, 6), comm, ArrayView<double>(sums, 6));
     }
     ke = sums[0];
+    // Friction's power at the step's evaluation (velocities of mid-step) over the step.
+    record.contact_dissipation -= sums[5] * dt;
     record.external_work += sums[1];
     if (solver.track_dissipation && sums[3] > 0)
       {
@@ -366,6 +370,15 @@ namespace perideal
                                   sci(max_spacing_fraction, 2) +
                                   "): it outruns its neighbours' forces and the run gains energy; lower "
                                   "Solver/Verlet/Fixed dt, or set it to 0 for the automatic step");
+      }
+    if (contact && !contact_warned && contact->largest_step_fraction > 0.5)
+      {
+        contact_warned = true;
+        record.warnings.push_back("step " + std::to_string(step) + " (t = " + sci(time, 6) + "): the " +
+                                  contact->fastest_description + " moves " +
+                                  sci(contact->largest_step_fraction, 3) +
+                                  " contact radii per step: contact acts late and bodies interpenetrate (or pass "
+                                  "through thin ones); lower the time step (Solver/Verlet/Fixed dt or Safety factor)");
       }
     report_progress(last);
     return last;

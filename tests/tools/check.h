@@ -113,3 +113,5 @@ int
 check_stability(int argc, char *argv[]);
 int
 check_damage(int argc, char *argv[]);
+int
+check_contact(int argc, char *argv[]);

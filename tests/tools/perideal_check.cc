@@ -2,7 +2,7 @@
 // and output, run by the test runner (tests/tools/run.sh check) after pd_app.
 // The modes and their arguments are described in check_globals.cc (globals),
 // check_quasistatic.cc (quasistatic), check_stability.cc (stability),
-// check_damage.cc (softening) and check_fields.cc (fields: the field files).
+// check_damage.cc (softening), check_contact.cc (contact) and check_fields.cc (fields: the field files).
 // Exit code: 0 every check passed, 1 a check failed, 2 bad arguments or input.
 
 #include "check.h"
@@ -27,8 +27,10 @@ main(int argc, char *argv[])
     return check_stability(argc - 1, argv + 1);
   if (mode == "softening")
     return check_damage(argc - 1, argv + 1);
+  if (mode == "contact")
+    return check_contact(argc - 1, argv + 1);
   if (mode == "fields")
     return check_fields(argc - 1, argv + 1);
-  std::cout << "usage: perideal_check globals|quasistatic|stability|softening|fields ARGUMENTS..." << std::endl;
+  std::cout << "usage: perideal_check globals|quasistatic|stability|softening|contact|fields ARGUMENTS..." << std::endl;
   return 2;
 }

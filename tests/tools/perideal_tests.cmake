@@ -17,6 +17,7 @@ add_executable(perideal_check
   ${CMAKE_CURRENT_LIST_DIR}/check_quasistatic.cc
   ${CMAKE_CURRENT_LIST_DIR}/check_stability.cc
   ${CMAKE_CURRENT_LIST_DIR}/check_damage.cc
+  ${CMAKE_CURRENT_LIST_DIR}/check_contact.cc
   ${CMAKE_CURRENT_LIST_DIR}/check_fields.cc)
 # The fields mode inflates the .vtu arrays deal.II compresses with zlib.
 find_package(ZLIB REQUIRED)

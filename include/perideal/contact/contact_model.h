@@ -1,44 +1,49 @@
 #pragma once
 // The ContactModel interface: a short-range force between points that are
-// not bonded to each other, points of different bodies or the two sides of
-// broken bonds, once they come closer than a contact radius. Without it,
+// not bonded to each other (points of different bodies, or the two sides of
+// broken bonds) once they come closer than a contact radius. Without it,
 // bodies and fragments pass through each other.
 //
-// The core (not the model) finds the candidate pairs: the points whose
-// current positions are within contact_radius() (plus a skin, so that the
-// search need not run every step), excluding pairs bonded and intact. The
-// model evaluates its force over that list, pair by pair, adding equal and
-// opposite forces to both points (action equals reaction). Friction needs the
-// relative velocity of a pair and a coefficient (Coulomb: |f_t| <= mu |f_n|),
-// so the model sees the velocities and parses its own friction keys.
+// The core (contact/contact.h), not the model, finds the candidate pairs in
+// the current configuration, across ranks, and keeps them in a Verlet list.
+// A model evaluates its force over the list of pairs the core gives it, one
+// virtual call per list: for every pair (i, j), i one of this rank's points,
+// it adds the force on i (as force density, divided by V_i) and half the
+// pair's energy and friction power. The rank that owns j evaluates the same
+// pair from j's side with the same arithmetic, so the two forces are equal and
+// opposite bit for bit (d_ji = -d_ij exactly; every product is commutative).
 //
 // A model is one file in source/contact/ with PERIDEAL_REGISTER(ContactModel,
-// ClassName, "Name", "documentation") at its bottom. No model is registered
-// and no key of the parameter file chooses one yet.
+// ClassName, "Name", "documentation") at its bottom; Contact models/<name>/
+// Model chooses it by that name.
 
 #include <perideal/base/input.h>
 #include <perideal/base/registry.h>
-#include <perideal/discretization/point_cloud.h>
 
-#include <deal.II/lac/la_parallel_vector.h>
-
+#include <cstddef>
 #include <string>
-#include <utility>
-#include <vector>
 
 namespace perideal
 {
-  /// Two points, local indices (owned or ghost), in contact range.
-  using ContactPair = std::pair<unsigned int, unsigned int>;
-
-  /// The state a contact force depends on; vectors hold dim entries per
-  /// point, ghost values current.
-  struct ContactState
+  /// The points the contact sees, in its own local numbering: this rank's
+  /// owned points first (the point cloud's owned numbering), then the
+  /// contact ghosts (points of other ranks near this rank's deformed region).
+  struct ContactPoints
   {
-    const PointCloud                                        &cloud; // reference positions, volumes
-    const dealii::LinearAlgebra::distributed::Vector<double> &displacement;
-    const dealii::LinearAlgebra::distributed::Vector<double> &velocity;
-    const std::vector<double>                                &mass_density; // per point
+    const double *X;       // reference position, dim per point
+    const double *uv;      // displacement then velocity, 2 dim per point
+    const double *volume;  // V
+    const double *mass;    // rho V (0 at points without mass)
+    const double *horizon; // the horizon of the point's block
+    double        time = 0, dt = 0;
+  };
+
+  /// What a model adds for the owned points of its pairs.
+  struct ContactOutput
+  {
+    double *force;                 // force density, dim per owned point (added to)
+    double  energy            = 0; // sum of half the pair energies (potential of the contact springs)
+    double  friction_power    = 0; // sum of half the pairs' f_t . (v_i - v_j): <= 0, what friction dissipates
   };
 
   class ContactModel
@@ -51,21 +56,24 @@ namespace perideal
     virtual void
     parse_parameters(ParameterHandler &prm, const std::string &path) = 0;
 
-    /// The distance below which two points interact: the reach of the
-    /// proximity search.
+    /// The distance below which two points interact.
     virtual double
     contact_radius() const = 0;
 
-    /// Adds the contact force density of every pair of @p pairs to @p force
-    /// (dim per point) at both of its points. Serial: no MPI.
-    virtual void
-    compute_force(const ContactState                               &state,
-                  const std::vector<ContactPair>                   &pairs,
-                  dealii::LinearAlgebra::distributed::Vector<double> &force) const = 0;
-
-    /// The largest stable explicit step the contact stiffness allows (the
-    /// integrator takes the minimum with the materials').
+    /// The normal stiffness of a pair per V_i V_j at time @p time (the pair
+    /// spring is k V_i V_j, N/m) for points of horizon @p horizon: what the
+    /// stable time step needs.
     virtual double
-    stable_time_step(const ContactState &state) const = 0;
+    stiffness(const double horizon, const double time) const = 0;
+
+    /// Adds the force of every pair (first[p], second[p]), p < n, on its
+    /// first point (owned) to @p out. Serial: no MPI.
+    virtual void
+    compute_force(const ContactPoints &points, const unsigned int *first, const unsigned int *second,
+                  const std::size_t n, ContactOutput &out) const = 0;
   };
+
+  /// Declares the Model key of a Contact models subsection.
+  void
+  declare_contact_model_entry(ParameterHandler &prm);
 } // namespace perideal

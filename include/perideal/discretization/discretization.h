@@ -30,6 +30,7 @@
 namespace perideal
 {
   struct Deck;
+  struct ContactParameters;
 
   class Discretization
   {
@@ -73,6 +74,7 @@ namespace perideal
     const std::map<std::string, std::unique_ptr<Region>> &regions;
     const std::vector<BondFilter>                        &bond_filters;
     std::vector<Block>                                   &blocks;
+    const ContactParameters &contact; // which blocks may hold particles without bonds
     const bool                                            has_continuum;
 
     dealii::parallel::distributed::Triangulation<dim> triangulation;

@@ -21,6 +21,7 @@
 
 namespace perideal
 {
+  class Contact;
   class Coupling;
 
   /// The fields every registered material and damage model offers as output
@@ -48,6 +49,18 @@ namespace perideal
     /// density per owned PD entry (may be empty) and the coupling (may be null).
     void
     attach(const std::vector<double> &body_force, Coupling *coupling);
+    /// The contact forces compute_forces() adds (null: no contact).
+    void
+    attach_contact(Contact *contact_)
+    {
+      contact = contact_;
+    }
+    /// The contact (null without).
+    const Contact *
+    contact_forces() const
+    {
+      return contact;
+    }
 
     /// The force density at every point (and, with continuum blocks, the FE
     /// nodal forces) of the current displacement, whose ghosts must be
@@ -203,6 +216,7 @@ namespace perideal
     BondStretchLimits            stretch_limits; // the critical stretch of each bond, across blocks
     const std::vector<double>   *body_force = nullptr;
     Coupling                    *coupling   = nullptr;
+    Contact                     *contact    = nullptr;
     double                       time = 0, dt = 0; // set_time()
     std::unique_ptr<Expression>  temperature_function; // null: no temperature field
     double                       reference_temperature = 0;

@@ -194,6 +194,9 @@ namespace perideal
     // Dissipated by the materials (plastic, viscous work) up to the last
     // globals row: FieldStore::dissipated_energy(), summed over ranks.
     double       material_dissipation = 0;
+    // Contact: the springs' energy at the last globals row, and the work of
+    // friction so far (each step's friction power times dt, >= 0).
+    double       last_contact_energy = 0, contact_dissipation = 0;
     unsigned int shortened_steps   = 0; // Verlet steps shortened below the elastic step
     double       shortest_dt       = std::numeric_limits<double>::max();
     double       startup_memory    = 0; // resident bytes before the scene is read

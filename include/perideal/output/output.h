@@ -99,6 +99,7 @@ namespace perideal
     std::string           base_name = "run";
     unsigned int          frequency = 0;
     unsigned int          globals_frequency = 0; // 0: frequency
+    unsigned int          globals_digits    = 10; // significant digits of the globals CSV
     std::set<std::string> variables;
     bool                  globals = true;
 

@@ -9,6 +9,7 @@
 #include <perideal/base/input.h>
 #include <perideal/compute/region_compute.h>
 #include <perideal/conditions/boundary_conditions.h>
+#include <perideal/contact/contact.h>
 #include <perideal/geometry/region.h>
 #include <perideal/geometry/scene.h>
 #include <perideal/model/block.h>
@@ -28,8 +29,8 @@ namespace perideal
   /// The user-chosen names of a parameter file (and the model of each).
   struct DeckNames
   {
-    std::vector<std::string>           regions, bond_filters, blocks, conditions, computes;
-    std::map<std::string, std::string> materials, damage_models; // name -> model ("" unknown yet)
+    std::vector<std::string>           regions, bond_filters, blocks, conditions, computes, contact_interactions;
+    std::map<std::string, std::string> materials, damage_models, contact_models; // name -> model ("" unknown yet)
   };
 
   /// Declares every section of the parameter file for the given names.
@@ -77,6 +78,7 @@ namespace perideal
     bool                                           has_continuum = false;
     CouplingParameters                             coupling;
     TemperatureParameters                          temperature;
+    ContactParameters                              contact;
     std::vector<BoundaryCondition>                 conditions;
     std::vector<RegionCompute>                     computes;
     SolverParameters                               solver;

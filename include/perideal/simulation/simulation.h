@@ -20,6 +20,7 @@ namespace perideal
   class Discretization;
   class ForceModel;
   class Coupling;
+  class Contact;
   class ConditionSet;
   class Postprocess;
 
@@ -58,6 +59,7 @@ namespace perideal
     std::unique_ptr<Discretization> discretization;
     std::unique_ptr<ForceModel>     model;
     std::unique_ptr<Coupling>       coupling; // only with continuum blocks
+    std::unique_ptr<Contact>        contact;  // only with Contact interactions
     std::unique_ptr<ConditionSet>   conditions;
     std::unique_ptr<Postprocess>    post;
   };
