@@ -155,7 +155,10 @@ namespace perideal
           takes_part[a] = 1;
 
     for (const ContactModel *model : models)
-      largest_contact_radius = std::max(largest_contact_radius, model->contact_radius());
+      {
+        largest_contact_radius = std::max(largest_contact_radius, model->contact_radius());
+        counts_needed          = counts_needed || model->uses_contact_counts();
+      }
     radius  = parameters.search_radius > 0 ? parameters.search_radius : 1.5 * largest_contact_radius;
     skin    = radius - largest_contact_radius;
     spacing = point_spacing;
@@ -301,6 +304,16 @@ namespace perideal
       ghost.compress();
       partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned, ghost, comm);
       uv.reinit(partitioner);
+      if (counts_needed)
+        {
+          IndexSet owned_points(n_global), ghost_points(n_global);
+          owned_points.add_range(first, first + n);
+          ghost_points.add_indices(ghost_gid.begin(), ghost_gid.end());
+          owned_points.compress();
+          ghost_points.compress();
+          count_partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned_points, ghost_points, comm);
+          counts.reinit(count_partitioner);
+        }
     }
 
     // The cell list over every point that takes part, at its current position.
@@ -482,28 +495,62 @@ namespace perideal
           uv.local_element(2 * dim * i + dim + d) = Vel[dim * i + d];
         }
     uv.update_ghost_values();
-    const ContactPoints points{X.data(), uv.begin(), volume.data(), mass.data(), horizon.data(), time, dt};
-    ContactOutput       out{force};
+    // The bonded pairs whose bond is broken now join the evaluation.
+    for (PairList &list : lists)
+      {
+        list.scratch_first.clear();
+        list.scratch_second.clear();
+        if (broken)
+          for (std::size_t p = 0; p < list.bond.size(); ++p)
+            if (broken[list.bond[p]])
+              {
+                list.scratch_first.push_back(list.bonded_first[p]);
+                list.scratch_second.push_back(list.bonded_second[p]);
+              }
+      }
+    ContactPoints points{X.data(), uv.begin(), volume.data(), mass.data(), horizon.data(), time, dt};
+    if (counts_needed)
+      {
+        counts = 0;
+        for (unsigned int m = 0; m < models.size(); ++m)
+          {
+            const PairList &list = lists[m];
+            const double    r_c  = models[m]->contact_radius();
+            count_contacts(list.first.data(), list.second.data(), list.first.size(), r_c);
+            count_contacts(list.scratch_first.data(), list.scratch_second.data(), list.scratch_first.size(), r_c);
+          }
+        counts.update_ghost_values();
+        points.contacts = counts.begin();
+      }
+    ContactOutput out{force};
     for (unsigned int m = 0; m < models.size(); ++m)
       {
-        PairList &list = lists[m];
+        const PairList &list = lists[m];
         models[m]->compute_force(points, list.first.data(), list.second.data(), list.first.size(), out);
-        if (broken && !list.bond.empty())
-          {
-            list.scratch_first.clear();
-            list.scratch_second.clear();
-            for (std::size_t p = 0; p < list.bond.size(); ++p)
-              if (broken[list.bond[p]])
-                {
-                  list.scratch_first.push_back(list.bonded_first[p]);
-                  list.scratch_second.push_back(list.bonded_second[p]);
-                }
-            models[m]->compute_force(points, list.scratch_first.data(), list.scratch_second.data(),
-                                     list.scratch_first.size(), out);
-          }
+        models[m]->compute_force(points, list.scratch_first.data(), list.scratch_second.data(),
+                                 list.scratch_first.size(), out);
       }
     energy         = out.energy;
     friction_power = out.friction_power;
+  }
+
+  void
+  Contact::count_contacts(const unsigned int *first, const unsigned int *second, const std::size_t n,
+                          const double radius)
+  {
+    const double *uv_ = uv.begin();
+    for (std::size_t p = 0; p < n; ++p)
+      {
+        const unsigned int i = first[p], j = second[p];
+        double             r2 = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const double e = (X[dim * j + d] + uv_[2 * dim * j + d]) - (X[dim * i + d] + uv_[2 * dim * i + d]);
+            r2 += e * e;
+          }
+        if (r2 < radius * radius)
+          counts.local_element(i) += 1;
+      }
   }
 
   double

@@ -6,9 +6,14 @@
 // c/(2 delta) V_i V_j (r_c - |d|)^2. With a friction coefficient mu
 // (Peridigm's friction model), a tangential force on i along the relative
 // tangential velocity v_t of j past i (opposing the sliding),
-//   |f_t| = min(mu |f_n|, m_ij |v_t| / dt),   m_ij = m_i m_j / (m_i + m_j):
-// Coulomb's bound while sliding; below it, the force that stops the pair's
-// sliding within the step (sticking, without a tangential spring).
+//   |f_t| = min(mu |f_n|, min(m_ij, m_i/n_i, m_j/n_j) |v_t| / dt),
+// m_ij = m_i m_j / (m_i + m_j), n_i the number of contacts of i now:
+// Coulomb's bound while sliding; below it, a share of the force that stops
+// the sliding within the step: at most what stops the pair alone (m_ij), and
+// at most each point's mass over its contacts, so that all the contacts of a
+// point together stop it and do not throw it back (sticking to within the
+// velocity one step of load gives, without a tangential spring and its
+// history).
 //
 // "Time dependent short range force" is the same with k an expression in t.
 
@@ -76,7 +81,8 @@ namespace perideal
               const double mi = p.mass[i], mj = p.mass[j];
               if (speed > 0 && mi > 0 && mj > 0)
                 {
-                  const double stop = p.dt > 0 ? (mi * mj) / (mi + mj) * speed / p.dt : mu * fn;
+                  const double share = std::min({(mi * mj) / (mi + mj), mi / p.contacts[i], mj / p.contacts[j]});
+                  const double stop  = p.dt > 0 ? share * speed / p.dt : mu * fn;
                   const double ft   = std::min(mu * fn, stop) / speed;
                   for (unsigned int c = 0; c < 3; ++c)
                     f[c] += ft * vt[c];
@@ -117,6 +123,12 @@ namespace perideal
     contact_radius() const override
     {
       return r_c;
+    }
+
+    bool
+    uses_contact_counts() const override
+    {
+      return mu > 0;
     }
 
     double

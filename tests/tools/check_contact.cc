@@ -1,5 +1,6 @@
 // perideal_check contact --csv CSV [--duration T --tol-duration R]
 //                        [--final NAME=VALUE ... --tol-final R]
+//                        [--final-below NAME=VALUE ...] [--final-above NAME=VALUE ...]
 //                        [--conserved NAME=S ... --tol-conserved R]
 //                        [--energy R]
 // Checks of a contact run's globals CSV written at every step:
@@ -7,6 +8,7 @@
 //   last - first + one step, the step the time between two rows) against T,
 //   relative |measured - T| / T <= R;
 // - --final: the last row's NAME against VALUE, relative to |VALUE|, <= R;
+//   --final-below: |NAME| <= VALUE in the last row; --final-above: NAME >= VALUE;
 // - --conserved: every row's NAME minus the first row's, over S, <= R
 //   (momentum: S the initial momentum of one body);
 // - --energy: every row's kinetic + strain + contact_energy +
@@ -27,7 +29,7 @@ check_contact(int argc, char *argv[])
       std::string                                 csv;
       double                                      duration = -1, tol_duration = 0, tol_final = 0, tol_conserved = 0,
              tol_energy = -1;
-      std::vector<std::pair<std::string, double>> finals, conserved;
+      std::vector<std::pair<std::string, double>> finals, conserved, below, above;
       const auto                                  name_value = [](const std::string &v, const std::string &option) {
         const auto eq = v.find('=');
         if (eq == std::string::npos)
@@ -45,6 +47,10 @@ check_contact(int argc, char *argv[])
             tol_duration = std::stod(next_argument(argc, argv, a, arg));
           else if (arg == "--final")
             finals.push_back(name_value(next_argument(argc, argv, a, arg), arg));
+          else if (arg == "--final-below")
+            below.push_back(name_value(next_argument(argc, argv, a, arg), arg));
+          else if (arg == "--final-above")
+            above.push_back(name_value(next_argument(argc, argv, a, arg), arg));
           else if (arg == "--tol-final")
             tol_final = std::stod(next_argument(argc, argv, a, arg));
           else if (arg == "--conserved")
@@ -81,6 +87,16 @@ check_contact(int argc, char *argv[])
           const double got = rows.back().at(name);
           check(name, got, std::abs(got - value) <= tol_final * std::abs(value),
                 "expected " + str(value, 8) + ", relative tolerance " + str(tol_final), 10);
+        }
+      for (const auto &[name, value] : below)
+        {
+          const double got = rows.back().at(name);
+          check("|" + name + "|", std::abs(got), std::abs(got) <= value, "<= " + str(value, 8), 6);
+        }
+      for (const auto &[name, value] : above)
+        {
+          const double got = rows.back().at(name);
+          check(name, got, got >= value, ">= " + str(value, 8), 6);
         }
       for (const auto &[name, scale] : conserved)
         {

@@ -157,6 +157,10 @@ namespace perideal
     std::vector<dealii::types::global_dof_index> ghost_gid;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner; // 2 dim entries per point
     VectorType                                                 uv;          // u then v per point, ghosted
+    // With friction only: contacts per point now, ghosted (ContactPoints::contacts).
+    bool                                                       counts_needed = false;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> count_partitioner;
+    VectorType                                                 counts;
     std::vector<double>                                        u_at_build;  // dim per owned point
 
     // The Verlet list per model: pairs never bonded, and pairs bonded at
@@ -168,6 +172,9 @@ namespace perideal
       std::vector<std::size_t>  bond;
       std::vector<unsigned int> scratch_first, scratch_second; // the bonded pairs broken now
     };
+    /// Adds to counts the pairs of @p first, @p second within @p radius.
+    void
+    count_contacts(const unsigned int *first, const unsigned int *second, const std::size_t n, const double radius);
     std::vector<PairList> lists;
   };
 } // namespace perideal

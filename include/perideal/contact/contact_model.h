@@ -36,6 +36,9 @@ namespace perideal
     const double *mass;    // rho V (0 at points without mass)
     const double *horizon; // the horizon of the point's block
     double        time = 0, dt = 0;
+    // Only for models that ask for it (uses_contact_counts()): per point the
+    // pairs within their contact radius now, over all models, ghosts included.
+    const double *contacts = nullptr;
   };
 
   /// What a model adds for the owned points of its pairs.
@@ -59,6 +62,14 @@ namespace perideal
     /// The distance below which two points interact.
     virtual double
     contact_radius() const = 0;
+
+    /// Whether compute_force() reads ContactPoints::contacts (the core then
+    /// counts and exchanges them before the evaluation).
+    virtual bool
+    uses_contact_counts() const
+    {
+      return false;
+    }
 
     /// The normal stiffness of a pair per V_i V_j at time @p time (the pair
     /// spring is k V_i V_j, N/m) for points of horizon @p horizon: what the
