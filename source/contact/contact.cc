@@ -225,6 +225,7 @@ namespace perideal
     mass.resize(n);
     horizon.resize(n);
     block.resize(n);
+    const std::vector<types::global_dof_index> previous_ghosts = std::move(ghost_gid);
     ghost_gid.clear();
     if (n_ranks > 1)
       {
@@ -289,6 +290,10 @@ namespace perideal
             block.push_back(static_cast<unsigned short>(p[4 + dim]));
           }
       }
+    // The same contact ghosts as before (the common case between rebuilds):
+    // the partitioners stay. Collective decision: every rank builds anew or none.
+    const bool same_ghosts = partitioner && Utilities::MPI::min(ghost_gid == previous_ghosts ? 1u : 0u, comm) == 1;
+    if (!same_ghosts)
     {
       const types::global_dof_index n_global = cloud.n_global(), first = n > 0 ? cloud.gid[0] : 0;
       constexpr unsigned int        w        = 2 * dim;
