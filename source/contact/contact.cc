@@ -386,48 +386,49 @@ namespace perideal
     const unsigned int             n_blocks = blocks.size();
     const double                   r2       = radius * radius;
     std::vector<unsigned int>      found;
+    // Per cloud-local point: its bond from the point i at hand (marked over
+    // i's family, unmarked after), so that a found pair finds its bond in
+    // O(1) rather than by a scan of the family.
+    constexpr std::size_t    no_bond = std::numeric_limits<std::size_t>::max();
+    std::vector<std::size_t> bond_to(cloud.n_local(), no_bond);
     for (unsigned int i = 0; i < n; ++i)
       {
         if (!active[i])
           continue;
         found.clear();
         const std::int64_t b[3] = {cells.bin(y[dim * i], 0), cells.bin(y[dim * i + 1], 1), cells.bin(y[dim * i + 2], 2)};
-        for (int dz = -1; dz <= 1; ++dz)
+        // z is the key's lowest field: the three bins along z are one run of keys.
+        for (int dx = -1; dx <= 1; ++dx)
           for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx)
-              {
-                const std::uint64_t key   = cells.pack(b[0] + dx, b[1] + dy, b[2] + dz);
-                const auto          range = std::equal_range(cells.key.begin(), cells.key.end(), key);
-                for (auto it = range.first; it != range.second; ++it)
-                  {
-                    const unsigned int j = cells.point[it - cells.key.begin()];
-                    if (j == i || model_of[block[i] * n_blocks + block[j]] < 0)
-                      continue;
-                    double dist2 = 0;
-                    for (unsigned int d = 0; d < dim; ++d)
-                      {
-                        const double e = y[dim * j + d] - y[dim * i + d];
-                        dist2 += e * e;
-                      }
-                    if (dist2 <= r2)
-                      found.push_back(j);
-                  }
-              }
+            {
+              const auto first = std::lower_bound(cells.key.begin(), cells.key.end(),
+                                                  cells.pack(b[0] + dx, b[1] + dy, b[2] - 1));
+              const auto last  = std::upper_bound(first, cells.key.end(), cells.pack(b[0] + dx, b[1] + dy, b[2] + 1));
+              for (auto it = first; it != last; ++it)
+                {
+                  const unsigned int j = cells.point[it - cells.key.begin()];
+                  if (j == i || model_of[block[i] * n_blocks + block[j]] < 0)
+                    continue;
+                  double dist2 = 0;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    {
+                      const double e = y[dim * j + d] - y[dim * i + d];
+                      dist2 += e * e;
+                    }
+                  if (dist2 <= r2)
+                    found.push_back(j);
+                }
+            }
         // The same order on any number of ranks: by global index.
         std::sort(found.begin(), found.end(), [&](unsigned int a, unsigned int c) { return global_id(a) < global_id(c); });
+        for (std::size_t k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
+          bond_to[bonds.neighbor[k]] = k;
         for (const unsigned int j : found)
           {
             PairList          &list = lists[model_of[block[i] * n_blocks + block[j]]];
             const unsigned int c    = cloud_index(j);
-            std::size_t        bond = std::numeric_limits<std::size_t>::max();
-            if (c != numbers::invalid_unsigned_int)
-              for (std::size_t k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
-                if (bonds.neighbor[k] == c)
-                  {
-                    bond = k;
-                    break;
-                  }
-            if (bond == std::numeric_limits<std::size_t>::max())
+            const std::size_t  bond = c != numbers::invalid_unsigned_int ? bond_to[c] : no_bond;
+            if (bond == no_bond)
               {
                 list.first.push_back(i);
                 list.second.push_back(j);
@@ -439,6 +440,8 @@ namespace perideal
                 list.bond.push_back(bond);
               }
           }
+        for (std::size_t k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
+          bond_to[bonds.neighbor[k]] = no_bond;
       }
     ++builds;
     steps_since_build = 0;
@@ -468,8 +471,8 @@ namespace perideal
       // list), or by Search frequency. Also: the fastest point's step
       // relative to the contact radius.
       TimerOutput::Scope t(timer, "contact search");
-      double    moved2 = 0;
-      BestPoint fastest;
+      double             maxima[2] = {0, 0}; // largest squared displacement since the build, speed
+      unsigned int       fastest   = numbers::invalid_unsigned_int;
       for (unsigned int i = 0; i < n; ++i)
         if (active[i])
           {
@@ -480,16 +483,27 @@ namespace perideal
                 m2 += e * e;
                 v2 += Vel[dim * i + d] * Vel[dim * i + d];
               }
-            moved2 = std::max(moved2, m2);
-            fastest.consider(std::sqrt(v2) * dt / largest_contact_radius, cloud.gid[i], &cloud.X[dim * i]);
+            maxima[0] = std::max(maxima[0], m2);
+            if (v2 > maxima[1])
+              maxima[1] = v2, fastest = i;
           }
+      // One collective per step; the fastest point is named (a second one)
+      // only the first time it moves more than half a contact radius.
+      const double local_speed = maxima[1];
+      Utilities::MPI::max(ArrayView<const double>(maxima, 2), comm, ArrayView<double>(maxima, 2));
       const bool due = parameters.search_frequency > 0 && steps_since_build >= parameters.search_frequency;
-      if (!built || due || Utilities::MPI::max(moved2, comm) > 0.25 * skin * skin)
+      if (!built || due || maxima[0] > 0.25 * skin * skin)
         build(u);
       ++steps_since_build;
-      const BestPoint global = fastest.global(comm);
-      largest_step_fraction  = global.found ? global.value : 0;
-      fastest_description    = global.found ? global.describe() : "";
+      largest_step_fraction = std::sqrt(maxima[1]) * dt / largest_contact_radius;
+      if (largest_step_fraction > 0.5 && fastest_description.empty())
+        {
+          BestPoint best;
+          if (fastest != numbers::invalid_unsigned_int)
+            best.consider(std::sqrt(local_speed) * dt / largest_contact_radius, cloud.gid[fastest],
+                          &cloud.X[dim * fastest]);
+          fastest_description = best.global(comm).describe();
+        }
     }
 
     TimerOutput::Scope t(timer, "contact force");

@@ -291,9 +291,10 @@ namespace perideal
     {
       TimerOutput::Scope        t(timer, "setup: neighbor search");
       std::vector<double>       horizon(blocks.size());
+      std::vector<std::uint8_t> rigid(blocks.size());
       for (unsigned int b = 0; b < blocks.size(); ++b)
-        horizon[b] = blocks[b].horizon;
-      bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius);
+        horizon[b] = blocks[b].horizon, rigid[b] = blocks[b].rigid;
+      bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius, rigid);
       if (scene.partial_volumes)
         {
           compute_partial_volumes(cloud, bonds, horizon);
@@ -337,7 +338,8 @@ namespace perideal
       BestPoint    first(BestPoint::Order::smallest); // the smallest global id
       for (unsigned int i = 0; i < cloud.n_owned(); ++i)
         if (bonds.offsets[i + 1] == bonds.offsets[i] && !is_virtual(i) && // see drop_unweighted_bonds()
-            !contact.involves(blocks[cloud.block[i]].name)) // a particle that only touches others
+            !contact.involves(blocks[cloud.block[i]].name) && // a particle that only touches others
+            !blocks[cloud.block[i]].rigid)
           {
             ++isolated;
             first.consider(0, cloud.gid[i], &cloud.X[3 * i], BestPoint::Kind::point, cloud.block[i]);

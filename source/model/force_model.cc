@@ -185,7 +185,8 @@ namespace perideal
     for (unsigned int b = 0; b < blocks.size(); ++b)
       {
         blocks[b].material->set_block(b, blocks[b].horizon);
-        blocks[b].material->initialize(state, blocks[b].points);
+        if (!blocks[b].rigid) // a rigid block's material gives only its density
+          blocks[b].material->initialize(state, blocks[b].points);
         if (blocks[b].continuum)
           AssertThrow(blocks[b].material->weight_energy(state, blocks[b].points, discretization.point_alpha.data()),
                       ExcMessage("Blocks/" + blocks[b].name + "/Type: material '" + blocks[b].material_name +
@@ -211,6 +212,8 @@ namespace perideal
         update_temperature();
       }
 
+    rigid.setup(blocks, cloud, mechanical.mass_density, comm);
+
     fields->update_ghost_values(FieldUse::constant);
     // The history starts from the initial state.
     fields->commit();
@@ -227,7 +230,8 @@ namespace perideal
                            nullptr,
                            *fields};
     for (unsigned int k = 0; k < blocks.size(); ++k)
-      if (!blocks[k].points.empty() && !blocks[k].material->add_tangent(block_state(state, k), blocks[k].points, rows))
+      if (!blocks[k].points.empty() && !blocks[k].rigid &&
+          !blocks[k].material->add_tangent(block_state(state, k), blocks[k].points, rows))
         return false;
     return true;
   }
@@ -266,7 +270,8 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "force");
       for (unsigned int k = 0; k < blocks.size(); ++k)
-        blocks[k].material->compute_stage(fused_state(k), blocks[k].points);
+        if (!blocks[k].rigid)
+          blocks[k].material->compute_stage(fused_state(k), blocks[k].points);
     }
     if (has_stage_fields)
       {
@@ -276,7 +281,8 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "force");
       for (unsigned int k = 0; k < blocks.size(); ++k)
-        blocks[k].material->compute_force(fused_state(k), blocks[k].points);
+        if (!blocks[k].rigid)
+          blocks[k].material->compute_force(fused_state(k), blocks[k].points);
     }
     for (auto &b : fused_breaking)
       {
@@ -289,6 +295,8 @@ namespace perideal
     if (!body_force->empty())
       for (unsigned int k = 0; k < dim * n; ++k)
         mechanical.force.local_element(k) += (*body_force)[k];
+    // After contact and loads, before the coupling (a rigid point is no virtual point).
+    rigid.apply(mechanical.force.begin());
     if (coupling)
       {
         // The virtual points' forces go to the FE nodes (Pi^T), action = reaction.
@@ -309,7 +317,8 @@ namespace perideal
     for (unsigned int k = 0; k < blocks.size(); ++k)
       {
         const Block &b = blocks[k];
-        if (!b.points.empty() && !b.continuum) // virtual points carry no mass: the FE nodes do
+        // Virtual points carry no mass (the FE nodes do); rigid points no stiffness (only contact).
+        if (!b.points.empty() && !b.continuum && !b.rigid)
           {
             const double dt_block = b.material->stable_time_step(state, b.points);
             // The largest double: no point of the block has any stiffness.
@@ -357,7 +366,7 @@ namespace perideal
         all += V;
         intact += (by_d ? 1 - damage[b] : 1 - broken[b]) * V;
       }
-    return 1 - intact / all;
+    return all > 0 ? 1 - intact / all : 0.0; // a particle without bonds (rigid, contact only) has none to lose
   }
 
   double
@@ -386,8 +395,9 @@ namespace perideal
   double
   ForceModel::fastest_bonded_speed() const
   {
-    // A point whose bonds are all broken interacts with nothing: it may fly
-    // at any speed. Its family is looked at only if it is the fastest yet.
+    // A point whose bonds are all broken (or that has none: a rigid or
+    // contact-only particle) has no neighbours to outrun: it may fly at any
+    // speed. Its family is looked at only if it is the fastest yet.
     double fastest = 0;
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       {
@@ -395,7 +405,7 @@ namespace perideal
         const double  s = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
         if (s <= fastest || mechanical.mass_density[i] == 0)
           continue;
-        bool bonded = broken.empty();
+        bool bonded = broken.empty() && bonds.offsets[i + 1] > bonds.offsets[i]; // a particle without bonds: free
         for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1] && !bonded; ++b)
           bonded = !broken[b];
         if (bonded)

@@ -14,11 +14,15 @@ namespace perideal
   using namespace dealii;
 
   Bonds
-  find_families(PointCloud                &cloud,
-                const std::vector<double> &block_horizon,
-                const MPI_Comm             comm,
-                const double               extra_reach)
+  find_families(PointCloud                      &cloud,
+                const std::vector<double>       &block_horizon,
+                const MPI_Comm                   comm,
+                const double                     extra_reach,
+                const std::vector<std::uint8_t> &unbonded_block)
   {
+    const auto unbonded = [&](const unsigned int point) {
+      return !unbonded_block.empty() && unbonded_block[cloud.block[point]] != 0;
+    };
     namespace bgi = boost::geometry::index;
 
     const unsigned int      n_owned = cloud.n_owned();
@@ -34,7 +38,7 @@ namespace perideal
     double expected = 0;
     for (unsigned int i = 0; i < n_owned; ++i)
       {
-        const double reach = block_horizon[cloud.block[i]] + extra_reach;
+        const double reach = unbonded(i) ? 0 : block_horizon[cloud.block[i]] + extra_reach;
         // No family holds more than the points there are (a horizon that
         // spans the scene would otherwise reserve beyond any memory).
         expected += std::min(4.19 * reach * reach * reach / cloud.volume[i], double(n_local) / 1.1);
@@ -85,6 +89,8 @@ namespace perideal
     for (unsigned int i = 0; i < n_owned; ++i)
       {
         bonds.offsets[i]    = bonds.neighbor.size();
+        if (unbonded(i))
+          continue;
         const double     delta   = block_horizon[cloud.block[i]];
         const double     reach_i = block_reach[cloud.block[i]];
         // Search as far as any family that may hold i reaches.
@@ -119,7 +125,7 @@ namespace perideal
         const std::size_t begin = bonds.neighbor.size();
         for (const unsigned int j : candidates)
           {
-            if (j == i)
+            if (j == i || unbonded(j))
               continue;
             double e[3] = {points[j][0] - x[0], points[j][1] - x[1], points[j][2] - x[2]};
             if (wrap)

@@ -191,6 +191,7 @@ namespace perideal
 
   void
   OutputWriter::write_fields(const DoFHandler<3>            &dof_handler,
+                             const std::vector<bool>        &written_cells,
                              const std::vector<CellField>   &cell_fields,
                              const std::vector<VectorField> &vector_fields,
                              const unsigned int              step,
@@ -209,7 +210,19 @@ namespace perideal
         std::vector<DataComponentInterpretation::DataComponentInterpretation>(
           3, DataComponentInterpretation::component_is_part_of_vector));
     data_out.add_cell_fields(cell_fields);
+    // Cells no block claims hold no point: written, they would fill the
+    // mesh's whole extent with zeros around the body.
+    data_out.set_cell_selection([&](const Triangulation<3>::cell_iterator &cell) {
+      return cell->is_active() && cell->is_locally_owned() && written_cells[cell->active_cell_index()];
+    });
     data_out.build_patches();
+    // deal.II 9.4 compresses with zlib's best compression by default: 5 s
+    // per output step of 19,000 points (the disk impact example), more than
+    // the steps between two outputs. Best speed writes files 10-20% larger
+    // in a fraction of the time.
+    DataOutBase::VtkFlags flags;
+    flags.compression_level = DataOutBase::VtkFlags::best_speed;
+    data_out.set_flags(flags);
 
     const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
     const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);

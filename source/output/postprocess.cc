@@ -142,6 +142,7 @@ namespace perideal
         row.emplace_back("contact_energy", record.last_contact_energy);
         row.emplace_back("contact_dissipation", record.contact_dissipation);
       }
+    model.rigid.add_globals(row, state.displacement.begin(), state.velocity.begin());
     // Only a scene with a dissipating material gets the column.
     if (model.field_store().tracks_dissipation())
       {
@@ -233,7 +234,15 @@ namespace perideal
           vector_fields.emplace_back(name, &out);
         }
 
-    output.write_fields(discretization.dof_handler, cell_fields, vector_fields, step, time, comm);
+    // The cells of points (virtual points too) and of continuum blocks.
+    std::vector<bool> written_cells(discretization.triangulation.n_active_cells(), false);
+    for (unsigned int i = 0; i < n; ++i)
+      written_cells[cloud.cell[i]->active_cell_index()] = true;
+    if (has_continuum)
+      for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+          written_cells[cell->active_cell_index()] = true;
+    output.write_fields(discretization.dof_handler, written_cells, cell_fields, vector_fields, step, time, comm);
     if (globals)
       output.write_globals(row, comm);
   }
@@ -304,6 +313,13 @@ namespace perideal
       if (b.continuum)
         pcout << "  block '" << b.name << "': continuum FE_Q(" << b.fe_degree << "), material '" << b.material_name
               << "' (" << b.continuum_model->describe() << "), " << Utilities::MPI::sum(b.points.size(), comm) << " virtual points\n";
+      else if (b.rigid)
+        {
+          const auto &bodies = model.rigid.bodies;
+          const auto  body   = std::find_if(bodies.begin(), bodies.end(), [&](const auto &r) { return r.name == b.name; });
+          pcout << "  block '" << b.name << "': rigid, " << body->n_points << " points, mass " << sci(body->mass, 6)
+                << " (material '" << b.material_name << "': its density)\n";
+        }
       else
         pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
               << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)

@@ -75,11 +75,15 @@ namespace perideal
         prm.declare_entry("Material ids", "0", Patterns::List(Patterns::Integer(0)), "The cells of the mesh with these material ids (Gmsh volume physical groups) form the block.");
         prm.declare_entry("Region", "", Patterns::Anything(), "If set, the cells whose centroid lies in this region form the block instead.");
         prm.declare_entry("Horizon", "0", Patterns::Double(0), "The block's horizon; 0: Discretization/Horizon.");
-        prm.declare_entry("Type", "Peridynamic", Patterns::Selection("Peridynamic|Continuum"),
+        prm.declare_entry("Type", "Peridynamic", Patterns::Selection("Peridynamic|Continuum|Rigid"),
                           "Peridynamic: one PD point per cell. Continuum: FE_Q(FE degree) linear elasticity "
                           "with the material's bulk modulus, shear modulus and density; peridynamic families "
                           "reach into its cells through virtual points (doc/coupling.md). Continuum blocks "
-                          "take no damage model.");
+                          "take no damage model. Rigid: one point per cell, no bonds; the points move as one "
+                          "body that translates (it does not rotate) under the sum of their forces (contact, "
+                          "loads), with the mass of the material's density; an impactor or indenter "
+                          "(doc/contact.md). Its motion may be prescribed by a condition on all its points. "
+                          "Explicit runs only; no damage model.");
         prm.declare_entry("FE degree", "1", Patterns::Integer(1, 2), "Polynomial degree of a continuum block's FE_Q elements.");
         prm.leave_subsection();
       }
@@ -334,6 +338,7 @@ namespace perideal
         block.region        = Utilities::trim(prm.get("Region"));
         block.horizon       = prm.get_double("Horizon");
         block.continuum     = prm.get("Type") == "Continuum";
+        block.rigid         = prm.get("Type") == "Rigid";
         block.fe_degree     = prm.get_integer("FE degree");
         for (const int id : Utilities::string_to_int(Utilities::split_string_list(prm.get("Material ids"), ',')))
           block.material_ids.push_back(id);
@@ -348,6 +353,9 @@ namespace perideal
                                "' is not defined in Damage models/Names"));
         AssertThrow(!block.continuum || block.damage_name.empty(),
                     ExcMessage(path + "/Damage model: a continuum block does not break; remove the damage "
+                                      "model or make the block Peridynamic"));
+        AssertThrow(!block.rigid || block.damage_name.empty(),
+                    ExcMessage(path + "/Damage model: a rigid block has no bonds to break; remove the damage "
                                       "model or make the block Peridynamic"));
         AssertThrow(block.region.empty() || block.region == "All" || deck.regions.count(block.region),
                     ExcMessage(path + "/Region: '" + block.region +
@@ -484,6 +492,11 @@ namespace perideal
           deck.integrator = std::move(integrator);
       }
     prm.leave_subsection();
+    for (const auto &block : deck.blocks)
+      AssertThrow(!block.rigid || solver.type == "Verlet",
+                  ExcMessage("Blocks/" + block.name + "/Type: Solver/Type is " + solver.type +
+                             ", but a rigid block moves in explicit runs only (Solver/Type = Verlet): Newton's "
+                             "matrix has no rows for a rigid body yet"));
     AssertThrow(!deck.contact.active() || solver.type == "Verlet",
                 ExcMessage("Contact: Solver/Type is " + solver.type +
                            ", but contact acts in explicit runs only (Solver/Type = Verlet): the contact force has "

@@ -63,6 +63,7 @@ namespace perideal
     post = std::make_unique<Postprocess>(deck, *discretization, *model, *conditions, state, record, comm, pcout, timer);
     post->setup(coupling.get());
     conditions->setup_constraints();
+    model->rigid.check_constraints(*conditions);
     model->attach(conditions->body_force, coupling.get());
     if (deck.contact.active())
       {

@@ -28,6 +28,8 @@ namespace perideal
   void
   SimulatorAccess::evaluate_initial_state() const
   {
+    // Initial conditions are set point by point; a rigid body starts with its momentum over its mass.
+    model.rigid.unify_velocities(state.velocity.begin());
     update_ghosts();
     model.set_time(deck.solver.initial_time, 0);
     model.compute_forces(true);

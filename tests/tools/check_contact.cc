@@ -1,6 +1,7 @@
 // perideal_check contact --csv CSV [--duration T --tol-duration R]
 //                        [--final NAME=VALUE ... --tol-final R]
 //                        [--final-below NAME=VALUE ...] [--final-above NAME=VALUE ...]
+//                        [--peak NAME=VALUE ... --tol-peak R]
 //                        [--conserved NAME=S ... --tol-conserved R]
 //                        [--energy R]
 // Checks of a contact run's globals CSV written at every step:
@@ -9,6 +10,7 @@
 //   relative |measured - T| / T <= R;
 // - --final: the last row's NAME against VALUE, relative to |VALUE|, <= R;
 //   --final-below: |NAME| <= VALUE in the last row; --final-above: NAME >= VALUE;
+// - --peak: the largest |NAME| over the rows against |VALUE|, relative, <= R;
 // - --conserved: every row's NAME minus the first row's, over S, <= R
 //   (momentum: S the initial momentum of one body);
 // - --energy: every row's kinetic + strain + contact_energy +
@@ -28,8 +30,8 @@ check_contact(int argc, char *argv[])
     {
       std::string                                 csv;
       double                                      duration = -1, tol_duration = 0, tol_final = 0, tol_conserved = 0,
-             tol_energy = -1;
-      std::vector<std::pair<std::string, double>> finals, conserved, below, above;
+             tol_energy = -1, tol_peak = 0;
+      std::vector<std::pair<std::string, double>> finals, conserved, below, above, peaks;
       const auto                                  name_value = [](const std::string &v, const std::string &option) {
         const auto eq = v.find('=');
         if (eq == std::string::npos)
@@ -51,6 +53,10 @@ check_contact(int argc, char *argv[])
             below.push_back(name_value(next_argument(argc, argv, a, arg), arg));
           else if (arg == "--final-above")
             above.push_back(name_value(next_argument(argc, argv, a, arg), arg));
+          else if (arg == "--peak")
+            peaks.push_back(name_value(next_argument(argc, argv, a, arg), arg));
+          else if (arg == "--tol-peak")
+            tol_peak = std::stod(next_argument(argc, argv, a, arg));
           else if (arg == "--tol-final")
             tol_final = std::stod(next_argument(argc, argv, a, arg));
           else if (arg == "--conserved")
@@ -87,6 +93,14 @@ check_contact(int argc, char *argv[])
           const double got = rows.back().at(name);
           check(name, got, std::abs(got - value) <= tol_final * std::abs(value),
                 "expected " + str(value, 8) + ", relative tolerance " + str(tol_final), 10);
+        }
+      for (const auto &[name, value] : peaks)
+        {
+          double got = 0;
+          for (const Row &row : rows)
+            got = std::max(got, std::abs(row.at(name)));
+          check("max |" + name + "|", got, std::abs(got - std::abs(value)) <= tol_peak * std::abs(value),
+                "expected " + str(std::abs(value), 8) + ", relative tolerance " + str(tol_peak), 8);
         }
       for (const auto &[name, value] : below)
         {

@@ -99,6 +99,9 @@ namespace
     const std::string body  = vtu.substr(close + 1, end - close - 1);
 
     std::vector<double> values;
+    // A rank that holds no point writes an empty piece: its arrays are empty.
+    if (body.find_first_not_of(" \t\r\n") == std::string::npos)
+      return values;
     if (attribute(tag, "format") == "ascii")
       {
         std::istringstream s(body);

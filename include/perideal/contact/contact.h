@@ -125,9 +125,11 @@ namespace perideal
     {
       return radius;
     }
-    /// The point moving fastest relative to the contact radius at the last
-    /// evaluation (|v| dt / r_c), over all ranks; set by add_forces().
+    /// The largest step of a point relative to the contact radius at the
+    /// last evaluation (|v| dt / r_c), over all ranks; set by add_forces().
     double largest_step_fraction = 0;
+    /// The point that first moved more than half a contact radius per step
+    /// (BestPoint::describe()), or empty.
     std::string fastest_description;
 
   private:

@@ -1,6 +1,6 @@
 #pragma once
 // A block: a set of cells with one material (and optional damage model) and
-// one horizon, or a continuum (FE) block. Blocks/NAME of the parameter file.
+// one horizon, a continuum (FE) block, or a rigid block (model/rigid_bodies.h). Blocks/NAME of the parameter file.
 
 #include <perideal/continuum/continuum_model.h>
 #include <perideal/damage/damage_model.h>
@@ -20,6 +20,7 @@ namespace perideal
     std::string               material_name, damage_name;
     double                    horizon   = 0;
     bool                      continuum = false; // FE cells; its points are virtual points
+    bool                      rigid     = false; // moves as one body; no bonds; its material gives only the density
     unsigned int              fe_degree = 1;
     std::unique_ptr<ContinuumModel>   continuum_model; // continuum blocks only
     std::unique_ptr<Material>         material;

@@ -10,6 +10,7 @@
 #include <perideal/damage/damage_model.h>
 #include <perideal/material/material.h>
 #include <perideal/model/block.h>
+#include <perideal/model/rigid_bodies.h>
 #include <perideal/model/state.h>
 
 #include <deal.II/base/timer.h>
@@ -180,6 +181,7 @@ namespace perideal
     }
 
     std::vector<Block>        &blocks;
+    RigidBodies                rigid; // the rigid blocks; compute_forces() moves each as one body
     std::vector<std::uint8_t>  broken;            // per bond, only with a damage model
     // Continuous d per bond, only with a continuous damage model
     // (DamageModel::continuous()); d = 1 is also marked in broken.

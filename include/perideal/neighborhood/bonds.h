@@ -114,11 +114,14 @@ namespace perideal
    * radius when partial volumes follow; i stores the union of F(i) and the
    * points whose family holds i, and sets Bonds::family if some stored bond
    * joins different horizons on any rank), drops the ghost candidates no
-   * bond uses and renumbers @p cloud. Collective.
+   * bond uses and renumbers @p cloud. The points of a block b with
+   * @p unbonded_block[b] != 0 (rigid blocks) take no bond, neither among
+   * themselves nor to others. Collective.
    */
   Bonds
-  find_families(PointCloud                &cloud,
-                const std::vector<double> &block_horizon,
-                const MPI_Comm             comm,
-                const double               extra_reach = 0);
+  find_families(PointCloud                      &cloud,
+                const std::vector<double>       &block_horizon,
+                const MPI_Comm                   comm,
+                const double                     extra_reach    = 0,
+                const std::vector<std::uint8_t> &unbonded_block = {});
 } // namespace perideal

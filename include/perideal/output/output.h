@@ -80,10 +80,14 @@ namespace perideal
                                   const dealii::LinearAlgebra::distributed::Vector<double> *>;
 
     /// Writes one output step of @p cell_fields and @p vector_fields (DG0
-    /// vectors on @p dof_handler). A vector or tensor cell field becomes one
-    /// array of 3 or 9 components in the files, as ParaView reads them. Collective.
+    /// vectors on @p dof_handler) on the locally owned cells whose
+    /// @p written_cells entry (by active cell index) is true: the cells that
+    /// hold a point or FE DoFs, not the cells no block claims. A vector or
+    /// tensor cell field becomes one array of 3 or 9 components in the
+    /// files, as ParaView reads them. Collective.
     void
     write_fields(const dealii::DoFHandler<3>    &dof_handler,
+                 const std::vector<bool>        &written_cells,
                  const std::vector<CellField>   &cell_fields,
                  const std::vector<VectorField> &vector_fields,
                  const unsigned int              step,
