@@ -296,7 +296,7 @@ namespace perideal
       for (unsigned int k = 0; k < dim * n; ++k)
         mechanical.force.local_element(k) += (*body_force)[k];
     // After contact and loads, before the coupling (a rigid point is no virtual point).
-    rigid.apply(mechanical.force.begin());
+    rigid.apply(mechanical.force.begin(), mechanical.displacement.begin(), mechanical.velocity.begin());
     if (coupling)
       {
         // The virtual points' forces go to the FE nodes (Pi^T), action = reaction.

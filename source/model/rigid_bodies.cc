@@ -3,13 +3,47 @@
 #include <perideal/base/format.h>
 #include <perideal/conditions/condition_set.h>
 #include <perideal/model/rigid_bodies.h>
-#include <perideal/model/state.h>
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/symmetric_tensor.h>
 
 namespace perideal
 {
   using namespace dealii;
+
+  namespace
+  {
+    using Vec = std::array<double, 3>;
+
+    Vec
+    cross(const Vec &a, const Vec &b)
+    {
+      return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
+    }
+
+    /// x with I x = b on the range of the symmetric I (the pseudo-inverse):
+    /// a body whose points lie on a line has no inertia about it, and the
+    /// angular velocity along that line is left 0.
+    Vec
+    solve_inertia(const double (&I)[3][3], const Vec &b)
+    {
+      SymmetricTensor<2, 3> S;
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = i; j < 3; ++j)
+          S[i][j] = I[i][j];
+      const auto eig     = eigenvectors(S); // largest eigenvalue first
+      Vec        x       = {{0, 0, 0}};
+      const double floor = 1e-12 * std::abs(eig[0].first);
+      for (const auto &[lambda, e] : eig)
+        if (lambda > floor && lambda > 0)
+          {
+            const double coefficient = (e[0] * b[0] + e[1] * b[1] + e[2] * b[2]) / lambda;
+            for (unsigned int d = 0; d < 3; ++d)
+              x[d] += coefficient * e[d];
+          }
+      return x;
+    }
+  } // namespace
 
   void
   RigidBodies::setup(const std::vector<Block> &blocks, const PointCloud &cloud_, const std::vector<double> &density,
@@ -32,69 +66,188 @@ namespace perideal
         }
     if (bodies.empty())
       return;
-    std::vector<double> local(2 * bodies.size());
+    // Mass, point count and the reference centre's first moment.
+    std::vector<double> local(5 * bodies.size());
     for (unsigned int k = 0; k < bodies.size(); ++k)
       {
         for (const unsigned int i : bodies[k].points)
-          local[2 * k] += density[i] * cloud->volume[i];
-        local[2 * k + 1] = bodies[k].points.size();
+          {
+            const double m = density[i] * cloud->volume[i];
+            local[5 * k] += m;
+            for (unsigned int d = 0; d < dim; ++d)
+              local[5 * k + 2 + d] += m * cloud->X[dim * i + d];
+          }
+        local[5 * k + 1] = bodies[k].points.size();
       }
     Utilities::MPI::sum(local, comm, local);
+    reference_centre.assign(bodies.size(), {{0, 0, 0}});
     for (unsigned int k = 0; k < bodies.size(); ++k)
       {
-        bodies[k].mass     = local[2 * k];
-        bodies[k].n_points = static_cast<unsigned int>(local[2 * k + 1]);
+        bodies[k].mass     = local[5 * k];
+        bodies[k].n_points = static_cast<unsigned int>(local[5 * k + 1]);
         AssertThrow(bodies[k].n_points > 0,
                     ExcMessage("Blocks/" + bodies[k].name + ": the rigid block holds no point (its Region or "
                                "Material ids select no cell)"));
         AssertThrow(bodies[k].mass > 0,
                     ExcMessage("Blocks/" + bodies[k].name + ": the rigid block has no mass: give its material a "
                                "positive Density"));
+        for (unsigned int d = 0; d < dim; ++d)
+          reference_centre[k][d] = local[5 * k + 2 + d] / bodies[k].mass;
       }
-    sums.resize(dim * bodies.size());
   }
 
-  void
-  RigidBodies::apply(double *f)
+  std::vector<RigidBodies::Sums>
+  RigidBodies::sums(const double *u, const double *v, const double *f) const
   {
-    if (bodies.empty())
-      return;
-    std::fill(sums.begin(), sums.end(), 0.0);
-    for (unsigned int k = 0; k < bodies.size(); ++k)
-      for (const unsigned int i : bodies[k].points)
-        for (unsigned int d = 0; d < dim; ++d)
-          sums[dim * k + d] += f[dim * i + d] * cloud->volume[i];
-    Utilities::MPI::sum(sums, comm, sums);
+    constexpr unsigned int width = 21; // the doubles of one Sums
+    std::vector<double>    local(width * bodies.size(), 0.0);
     for (unsigned int k = 0; k < bodies.size(); ++k)
       {
-        Body &body = bodies[k];
+        double *s = &local[width * k];
+        for (const unsigned int i : bodies[k].points)
+          {
+            const double m = (*mass_density)[i] * cloud->volume[i];
+            const Vec    y = {{cloud->X[dim * i] + u[dim * i], cloud->X[dim * i + 1] + u[dim * i + 1],
+                               cloud->X[dim * i + 2] + u[dim * i + 2]}};
+            const Vec    p = {{m * v[dim * i], m * v[dim * i + 1], m * v[dim * i + 2]}};
+            const Vec    L = cross(y, p);
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                s[d] += m * y[d];
+                s[3 + d] += m * y[d] * y[d];
+                s[9 + d] += p[d];
+                s[12 + d] += L[d];
+              }
+            s[6] += m * y[0] * y[1];
+            s[7] += m * y[1] * y[2];
+            s[8] += m * y[0] * y[2];
+            if (f)
+              {
+                const double V  = cloud->volume[i];
+                const Vec    fi = {{f[dim * i] * V, f[dim * i + 1] * V, f[dim * i + 2] * V}};
+                const Vec    T  = cross(y, fi);
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    s[15 + d] += fi[d];
+                    s[18 + d] += T[d];
+                  }
+              }
+          }
+      }
+    Utilities::MPI::sum(local, comm, local);
+    std::vector<Sums> out(bodies.size());
+    for (unsigned int k = 0; k < bodies.size(); ++k)
+      {
+        const double *s = &local[width * k];
         for (unsigned int d = 0; d < dim; ++d)
-          body.force[d] = sums[dim * k + d];
+          {
+            out[k].first[d]    = s[d];
+            out[k].momentum[d] = s[9 + d];
+            out[k].angular[d]  = s[12 + d];
+            out[k].force[d]    = s[15 + d];
+            out[k].torque[d]   = s[18 + d];
+          }
+        for (unsigned int c = 0; c < 6; ++c)
+          out[k].second[c] = s[3 + c];
+      }
+    return out;
+  }
+
+  RigidBodies::Motion
+  RigidBodies::motion(const Body &body, const Sums &s) const
+  {
+    Motion       m;
+    const double M = body.mass;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        m.centre[d]   = s.first[d] / M;
+        m.velocity[d] = s.momentum[d] / M;
+      }
+    // Second moment about the centre, J = sum m y y^T - M c c^T; I = tr(J) 1 - J.
+    static constexpr unsigned int index[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+    double                        J[3][3];
+    for (unsigned int a = 0; a < 3; ++a)
+      for (unsigned int b = 0; b < 3; ++b)
+        J[a][b] = s.second[index[a][b]] - M * m.centre[a] * m.centre[b];
+    const double trace = J[0][0] + J[1][1] + J[2][2];
+    for (unsigned int a = 0; a < 3; ++a)
+      for (unsigned int b = 0; b < 3; ++b)
+        m.inertia[a][b] = (a == b ? trace : 0.0) - J[a][b];
+    if (body.translates_only)
+      m.omega = {{0, 0, 0}};
+    else
+      {
+        // Angular momentum about the centre: about the origin minus c x P.
+        const Vec cP = cross(m.centre, s.momentum);
+        m.omega      = solve_inertia(m.inertia, {{s.angular[0] - cP[0], s.angular[1] - cP[1], s.angular[2] - cP[2]}});
+      }
+    return m;
+  }
+
+  void
+  RigidBodies::apply(double *f, const double *u, const double *v)
+  {
+    if (bodies.empty())
+      return;
+    const std::vector<Sums> s = sums(u, v, f);
+    for (unsigned int k = 0; k < bodies.size(); ++k)
+      {
+        Body        &body = bodies[k];
+        const Motion m    = motion(body, s[k]);
+        const Vec    cF   = cross(m.centre, s[k].force);
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            body.force[d]  = s[k].force[d];
+            body.torque[d] = s[k].torque[d] - cF[d];
+          }
+        Vec alpha = {{0, 0, 0}};
+        if (!body.translates_only)
+          {
+            // Euler's equations: I alpha = T - omega x I omega.
+            Vec Iw = {{0, 0, 0}};
+            for (unsigned int a = 0; a < 3; ++a)
+              for (unsigned int b = 0; b < 3; ++b)
+                Iw[a] += m.inertia[a][b] * m.omega[b];
+            const Vec gyro = cross(m.omega, Iw);
+            alpha          = solve_inertia(m.inertia, {{body.torque[0] - gyro[0], body.torque[1] - gyro[1],
+                                                       body.torque[2] - gyro[2]}});
+          }
         for (const unsigned int i : body.points)
-          for (unsigned int d = 0; d < dim; ++d)
-            f[dim * i + d] = (*mass_density)[i] * body.force[d] / body.mass;
+          {
+            const Vec r   = {{cloud->X[dim * i] + u[dim * i] - m.centre[0],
+                              cloud->X[dim * i + 1] + u[dim * i + 1] - m.centre[1],
+                              cloud->X[dim * i + 2] + u[dim * i + 2] - m.centre[2]}};
+            const Vec ar  = cross(alpha, r);
+            const Vec wwr = cross(m.omega, cross(m.omega, r));
+            for (unsigned int d = 0; d < dim; ++d)
+              f[dim * i + d] = (*mass_density)[i] * (body.force[d] / body.mass + ar[d] + wwr[d]);
+          }
       }
   }
 
   void
-  RigidBodies::unify_velocities(double *v) const
+  RigidBodies::unify_velocities(const double *u, double *v) const
   {
     if (bodies.empty())
       return;
-    std::vector<double> momentum(dim * bodies.size(), 0.0);
+    const std::vector<Sums> s = sums(u, v, nullptr);
     for (unsigned int k = 0; k < bodies.size(); ++k)
-      for (const unsigned int i : bodies[k].points)
-        for (unsigned int d = 0; d < dim; ++d)
-          momentum[dim * k + d] += (*mass_density)[i] * cloud->volume[i] * v[dim * i + d];
-    Utilities::MPI::sum(momentum, comm, momentum);
-    for (unsigned int k = 0; k < bodies.size(); ++k)
-      for (const unsigned int i : bodies[k].points)
-        for (unsigned int d = 0; d < dim; ++d)
-          v[dim * i + d] = momentum[dim * k + d] / bodies[k].mass;
+      {
+        const Motion m = motion(bodies[k], s[k]);
+        for (const unsigned int i : bodies[k].points)
+          {
+            const Vec r  = {{cloud->X[dim * i] + u[dim * i] - m.centre[0],
+                             cloud->X[dim * i + 1] + u[dim * i + 1] - m.centre[1],
+                             cloud->X[dim * i + 2] + u[dim * i + 2] - m.centre[2]}};
+            const Vec wr = cross(m.omega, r);
+            for (unsigned int d = 0; d < dim; ++d)
+              v[dim * i + d] = m.velocity[d] + wr[d];
+          }
+      }
   }
 
   void
-  RigidBodies::check_constraints(const ConditionSet &conditions) const
+  RigidBodies::check_constraints(const ConditionSet &conditions)
   {
     if (bodies.empty())
       return;
@@ -121,6 +274,9 @@ namespace perideal
                                    std::to_string(bodies[k].n_points) + " points of rigid block '" + bodies[k].name +
                                    "': a rigid block moves as one; give the condition a region that holds "
                                    "the whole block, or none of it"));
+            // A guided body (a crosshead): it translates along its free components.
+            if (n > 0)
+              bodies[k].translates_only = true;
           }
   }
 
@@ -129,25 +285,17 @@ namespace perideal
   {
     if (bodies.empty())
       return;
-    std::vector<double> sums_uv(2 * dim * bodies.size(), 0.0);
-    for (unsigned int k = 0; k < bodies.size(); ++k)
-      for (const unsigned int i : bodies[k].points)
-        {
-          const double m = (*mass_density)[i] * cloud->volume[i];
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              sums_uv[2 * dim * k + d] += m * v[dim * i + d];
-              sums_uv[2 * dim * k + dim + d] += m * u[dim * i + d];
-            }
-        }
-    Utilities::MPI::sum(sums_uv, comm, sums_uv);
+    const std::vector<Sums> s = sums(u, v, nullptr);
     for (unsigned int k = 0; k < bodies.size(); ++k)
       {
-        const Body &body = bodies[k];
+        const Body  &body = bodies[k];
+        const Motion m    = motion(body, s[k]);
         for (unsigned int d = 0; d < dim; ++d)
-          row.emplace_back(body.name + "_velocity_" + "xyz"[d], sums_uv[2 * dim * k + d] / body.mass);
+          row.emplace_back(body.name + "_velocity_" + "xyz"[d], m.velocity[d]);
         for (unsigned int d = 0; d < dim; ++d)
-          row.emplace_back(body.name + "_displacement_" + "xyz"[d], sums_uv[2 * dim * k + dim + d] / body.mass);
+          row.emplace_back(body.name + "_displacement_" + "xyz"[d], m.centre[d] - reference_centre[k][d]);
+        for (unsigned int d = 0; d < dim; ++d)
+          row.emplace_back(body.name + "_angular_velocity_" + "xyz"[d], m.omega[d]);
         for (unsigned int d = 0; d < dim; ++d)
           row.emplace_back(body.name + "_force_" + "xyz"[d], body.force[d]);
       }

@@ -80,10 +80,10 @@ namespace perideal
                           "with the material's bulk modulus, shear modulus and density; peridynamic families "
                           "reach into its cells through virtual points (doc/coupling.md). Continuum blocks "
                           "take no damage model. Rigid: one point per cell, no bonds; the points move as one "
-                          "body that translates (it does not rotate) under the sum of their forces (contact, "
-                          "loads), with the mass of the material's density; an impactor or indenter "
-                          "(doc/contact.md). Its motion may be prescribed by a condition on all its points. "
-                          "Explicit runs only; no damage model.");
+                          "rigid body (translation and rotation) under the force and torque of their forces "
+                          "(contact, loads), with the mass and inertia of the material's density; an impactor "
+                          "or indenter (doc/contact.md). Its motion may be prescribed by a condition on all its "
+                          "points (it then translates only). Explicit runs only; no damage model.");
         prm.declare_entry("FE degree", "1", Patterns::Integer(1, 2), "Polynomial degree of a continuum block's FE_Q elements.");
         prm.leave_subsection();
       }

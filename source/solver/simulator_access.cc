@@ -28,8 +28,9 @@ namespace perideal
   void
   SimulatorAccess::evaluate_initial_state() const
   {
-    // Initial conditions are set point by point; a rigid body starts with its momentum over its mass.
-    model.rigid.unify_velocities(state.velocity.begin());
+    // Initial conditions are set point by point; a rigid body starts with the
+    // rigid motion of their momentum and angular momentum.
+    model.rigid.unify_velocities(state.displacement.begin(), state.velocity.begin());
     update_ghosts();
     model.set_time(deck.solver.initial_time, 0);
     model.compute_forces(true);
