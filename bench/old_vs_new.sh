@@ -15,7 +15,9 @@
 # rank count, the median over the repetitions of the bond updates per second
 # and of the peak memory per bond, and the verdicts: the new rate within 3% of
 # the old one (or above it), the bytes per bond not higher (within 0.5%, the
-# resolution of the peak resident memory).
+# resolution of the peak resident memory). For any other scene, with its
+# TimerOutput sections and a byte comparison of the globals:
+# bench/compare_builds.sh.
 set -euo pipefail
 
 [[ $# -ge 2 ]] || { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit 2; }

@@ -154,11 +154,14 @@ namespace perideal
         if (model_of[a * n_blocks + b] >= 0)
           takes_part[a] = 1;
 
+    bool velocity_needed = false;
     for (const ContactModel *model : models)
       {
         largest_contact_radius = std::max(largest_contact_radius, model->contact_radius());
         counts_needed          = counts_needed || model->uses_contact_counts();
+        velocity_needed        = velocity_needed || model->uses_velocity();
       }
+    stride = velocity_needed ? 2 * dim : dim;
     radius  = parameters.search_radius > 0 ? parameters.search_radius : 1.5 * largest_contact_radius;
     skin    = radius - largest_contact_radius;
     spacing = point_spacing;
@@ -296,7 +299,7 @@ namespace perideal
     if (!same_ghosts)
     {
       const types::global_dof_index n_global = cloud.n_global(), first = n > 0 ? cloud.gid[0] : 0;
-      constexpr unsigned int        w        = 2 * dim;
+      const unsigned int            w        = stride;
       IndexSet                      owned(w * n_global), ghost(w * n_global);
       owned.add_range(w * first, w * (first + n));
       std::vector<types::global_dof_index> entries;
@@ -325,12 +328,12 @@ namespace perideal
     const unsigned int n_local = n + ghost_gid.size();
     for (unsigned int i = 0; i < n; ++i)
       for (unsigned int d = 0; d < dim; ++d)
-        uv.local_element(2 * dim * i + d) = U[dim * i + d];
+        uv.local_element(stride * i + d) = U[dim * i + d];
     uv.update_ghost_values();
     std::vector<double> y(dim * n_local);
     for (unsigned int i = 0; i < n_local; ++i)
       for (unsigned int d = 0; d < dim; ++d)
-        y[dim * i + d] = X[dim * i + d] + uv.local_element(2 * dim * i + d);
+        y[dim * i + d] = X[dim * i + d] + uv.local_element(stride * i + d);
     const auto takes = [&](const unsigned int i) { return i >= n || active[i]; };
     CellList   cells;
     for (unsigned int d = 0; d < dim; ++d)
@@ -446,6 +449,7 @@ namespace perideal
     ++builds;
     steps_since_build = 0;
     built             = true;
+    scanned_version   = std::numeric_limits<std::size_t>::max();
   }
 
   std::size_t
@@ -460,8 +464,8 @@ namespace perideal
   // ---------------------------------------------------------------- forces
 
   void
-  Contact::add_forces(const VectorType &u, const VectorType &v, const std::uint8_t *broken, double *force,
-                      const double time, const double dt)
+  Contact::add_forces(const VectorType &u, const VectorType &v, const std::uint8_t *broken,
+                      const std::size_t broken_version, double *force, const double time, const double dt)
   {
     const unsigned int n = cloud.n_owned();
     const double      *U = u.begin(), *Vel = v.begin();
@@ -507,27 +511,35 @@ namespace perideal
     }
 
     TimerOutput::Scope t(timer, "contact force");
-    for (unsigned int i = 0; i < n; ++i)
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          uv.local_element(2 * dim * i + d)       = U[dim * i + d];
-          uv.local_element(2 * dim * i + dim + d) = Vel[dim * i + d];
-        }
+    if (stride == dim)
+      std::copy(U, U + dim * n, uv.begin());
+    else
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            uv.local_element(stride * i + d)       = U[dim * i + d];
+            uv.local_element(stride * i + dim + d) = Vel[dim * i + d];
+          }
     uv.update_ghost_values();
-    // The bonded pairs whose bond is broken now join the evaluation.
-    for (PairList &list : lists)
+    // The bonded pairs whose bond is broken join the evaluation; bonds only
+    // break, so the pairs found stay until the next build, and the list is
+    // looked at again only when some bond of this rank has broken since.
+    if (broken && broken_version != scanned_version)
       {
-        list.scratch_first.clear();
-        list.scratch_second.clear();
-        if (broken)
-          for (std::size_t p = 0; p < list.bond.size(); ++p)
-            if (broken[list.bond[p]])
-              {
-                list.scratch_first.push_back(list.bonded_first[p]);
-                list.scratch_second.push_back(list.bonded_second[p]);
-              }
+        for (PairList &list : lists)
+          {
+            list.broken_first.clear();
+            list.broken_second.clear();
+            for (std::size_t p = 0; p < list.bond.size(); ++p)
+              if (broken[list.bond[p]])
+                {
+                  list.broken_first.push_back(list.bonded_first[p]);
+                  list.broken_second.push_back(list.bonded_second[p]);
+                }
+          }
+        scanned_version = broken_version;
       }
-    ContactPoints points{X.data(), uv.begin(), volume.data(), mass.data(), horizon.data(), time, dt};
+    ContactPoints points{X.data(), uv.begin(), stride, volume.data(), mass.data(), horizon.data(), time, dt};
     if (counts_needed)
       {
         counts = 0;
@@ -536,7 +548,7 @@ namespace perideal
             const PairList &list = lists[m];
             const double    r_c  = models[m]->contact_radius();
             count_contacts(list.first.data(), list.second.data(), list.first.size(), r_c);
-            count_contacts(list.scratch_first.data(), list.scratch_second.data(), list.scratch_first.size(), r_c);
+            count_contacts(list.broken_first.data(), list.broken_second.data(), list.broken_first.size(), r_c);
           }
         counts.update_ghost_values();
         points.contacts = counts.begin();
@@ -546,8 +558,8 @@ namespace perideal
       {
         const PairList &list = lists[m];
         models[m]->compute_force(points, list.first.data(), list.second.data(), list.first.size(), out);
-        models[m]->compute_force(points, list.scratch_first.data(), list.scratch_second.data(),
-                                 list.scratch_first.size(), out);
+        models[m]->compute_force(points, list.broken_first.data(), list.broken_second.data(),
+                                 list.broken_first.size(), out);
       }
     energy         = out.energy;
     friction_power = out.friction_power;
@@ -564,7 +576,7 @@ namespace perideal
         double             r2 = 0;
         for (unsigned int d = 0; d < dim; ++d)
           {
-            const double e = (X[dim * j + d] + uv_[2 * dim * j + d]) - (X[dim * i + d] + uv_[2 * dim * i + d]);
+            const double e = (X[dim * j + d] + uv_[stride * j + d]) - (X[dim * i + d] + uv_[stride * i + d]);
             r2 += e * e;
           }
         if (r2 < radius * radius)

@@ -56,7 +56,7 @@ namespace perideal
       for (std::size_t q = 0; q < n; ++q)
         {
           const unsigned int i = first[q], j = second[q];
-          const double *ui = p.uv + 6 * i, *uj = p.uv + 6 * j;
+          const double *ui = p.uv + p.stride * i, *uj = p.uv + p.stride * j; // u, then v with friction
           const double  d[3] = {(p.X[3 * j] + uj[0]) - (p.X[3 * i] + ui[0]),
                                 (p.X[3 * j + 1] + uj[1]) - (p.X[3 * i + 1] + ui[1]),
                                 (p.X[3 * j + 2] + uj[2]) - (p.X[3 * i + 2] + ui[2])};
@@ -127,6 +127,12 @@ namespace perideal
 
     bool
     uses_contact_counts() const override
+    {
+      return mu > 0;
+    }
+
+    bool
+    uses_velocity() const override
     {
       return mu > 0;
     }

@@ -291,7 +291,7 @@ namespace perideal
       }
     if (contact)
       contact->add_forces(mechanical.displacement, mechanical.velocity, broken.empty() ? nullptr : broken.data(),
-                          mechanical.force.begin(), time, dt);
+                          damage_updates, mechanical.force.begin(), time, dt);
     if (!body_force->empty())
       for (unsigned int k = 0; k < dim * n; ++k)
         mechanical.force.local_element(k) += (*body_force)[k];

@@ -35,6 +35,7 @@
 #include <deal.II/base/timer.h>
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -98,10 +99,12 @@ namespace perideal
 
     /// Adds the contact force density of the current state to @p force (dim
     /// per owned point); @p u and @p v owned values, @p broken the bond
-    /// damage (nullptr without). Rebuilds the list when needed. Collective.
+    /// damage (nullptr without), @p broken_version a count that changes
+    /// whenever a bond of this rank breaks (the bonded pairs of the list are
+    /// looked at again only then). Rebuilds the list when needed. Collective.
     void
-    add_forces(const VectorType &u, const VectorType &v, const std::uint8_t *broken, double *force, const double time,
-               const double dt);
+    add_forces(const VectorType &u, const VectorType &v, const std::uint8_t *broken, const std::size_t broken_version,
+               double *force, const double time, const double dt);
 
     /// The largest explicit step the contact springs allow at @p time: the
     /// Gershgorin bound with every neighbor volume of a ball of the contact
@@ -157,8 +160,10 @@ namespace perideal
     std::vector<unsigned short> block;
     std::vector<std::uint8_t>   active; // per owned point: takes part (mass > 0, block in some interaction)
     std::vector<dealii::types::global_dof_index> ghost_gid;
-    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner; // 2 dim entries per point
-    VectorType                                                 uv;          // u then v per point, ghosted
+    // u, and v if some model uses it, per point, ghosted: stride entries per point.
+    unsigned int                                               stride = 2 * dim;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner;
+    VectorType                                                 uv;
     // With friction only: contacts per point now, ghosted (ContactPoints::contacts).
     bool                                                       counts_needed = false;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> count_partitioner;
@@ -172,8 +177,11 @@ namespace perideal
       std::vector<unsigned int> first, second;             // unbonded
       std::vector<unsigned int> bonded_first, bonded_second; // bonded
       std::vector<std::size_t>  bond;
-      std::vector<unsigned int> scratch_first, scratch_second; // the bonded pairs broken now
+      std::vector<unsigned int> broken_first, broken_second; // the bonded pairs broken now
     };
+    // The broken_version the bonded pairs were last looked at for; none
+    // since the last build: the largest value.
+    std::size_t scanned_version = std::numeric_limits<std::size_t>::max();
     /// Adds to counts the pairs of @p first, @p second within @p radius.
     void
     count_contacts(const unsigned int *first, const unsigned int *second, const std::size_t n, const double radius);

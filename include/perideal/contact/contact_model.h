@@ -31,7 +31,8 @@ namespace perideal
   struct ContactPoints
   {
     const double *X;       // reference position, dim per point
-    const double *uv;      // displacement then velocity, 2 dim per point
+    const double *uv;      // displacement, then velocity if a model uses_velocity(): stride per point
+    unsigned int  stride;  // dim, or 2 dim with velocity
     const double *volume;  // V
     const double *mass;    // rho V (0 at points without mass)
     const double *horizon; // the horizon of the point's block
@@ -67,6 +68,15 @@ namespace perideal
     /// counts and exchanges them before the evaluation).
     virtual bool
     uses_contact_counts() const
+    {
+      return false;
+    }
+
+    /// Whether compute_force() reads the velocities (ContactPoints::uv
+    /// beyond the displacement); without, only displacements travel between
+    /// ranks.
+    virtual bool
+    uses_velocity() const
     {
       return false;
     }
