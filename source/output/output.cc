@@ -113,6 +113,12 @@ namespace perideal
                       "Write <base name>.globals.csv with step, time, kinetic_energy, "
                       "strain_energy, broken_bonds, max_damage and more, a row per "
                       "output step.");
+    prm.declare_entry("Fragments", "false", Patterns::Bool(),
+                      "Write <base name>.fragments.csv at every field output step (Frequency): a row per "
+                      "fragment (the pieces the intact bonds hold together, numbered in the order of their "
+                      "smallest point index, the same on any number of ranks) with its points, mass, centre-of-"
+                      "mass velocity and kinetic energy. The field Fragment (Variables) gives each point its "
+                      "fragment's number.");
   }
 
   void
@@ -124,6 +130,7 @@ namespace perideal
     globals_frequency = prm.get_integer("Globals frequency");
     globals_digits    = prm.get_integer("Globals digits");
     globals   = prm.get_bool("Write globals");
+    fragments = prm.get_bool("Fragments");
     variables.clear();
     for (const auto &v : Utilities::split_string_list(prm.get("Variables"), ','))
       if (!v.empty())

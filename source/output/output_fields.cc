@@ -137,6 +137,21 @@ namespace perideal
       }
     };
 
+    class Fragment : public ScalarField
+    {
+    public:
+      int
+      position() const override
+      {
+        return 55;
+      }
+      double
+      value(const ComputeData &data, const unsigned int i, const unsigned int) const override
+      {
+        return data.fragment ? (*data.fragment)[i] : -1.0;
+      }
+    };
+
     /// T = dT + T_ref (Temperature/Function); the deck refuses it without one.
     class Temperature : public ScalarField
     {
@@ -246,6 +261,10 @@ namespace perideal
                       "T of a point, from Temperature/Function (only with a temperature field).")
     PERIDEAL_REGISTER(OutputField, Damage, "Damage",
                       "point damage, 1 - sum_j (1 - d_ij) V_j / sum_j V_j over a point's family.")
+    PERIDEAL_REGISTER(OutputField, Fragment, "Fragment",
+                      "the number of a point's fragment (Output/Fragments: the pieces the intact bonds hold "
+                      "together, numbered from 0 in the order of their smallest point index; -1 at virtual "
+                      "points of no fragment).")
     PERIDEAL_REGISTER(OutputField, NumberOfNeighbors, "Number of neighbors",
                       "the bonds of a point's family, broken ones included.")
     PERIDEAL_REGISTER(OutputField, Block, "Block",

@@ -4,6 +4,7 @@
 #include <perideal/base/expression.h>
 #include <perideal/base/format.h>
 #include <perideal/base/memory.h>
+#include <perideal/compute/fragments.h>
 #include <perideal/conditions/condition_set.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
@@ -17,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -181,7 +183,18 @@ namespace perideal
       }
 
     const unsigned int                           n    = cloud.n_owned();
-    const ComputeData                            data = compute_data();
+    ComputeData                                  data = compute_data();
+    Fragments                                    fragments;
+    if (output.fragments || output.wants("Fragment"))
+      {
+        fragments = find_fragments(cloud, bonds, model.broken, model.blocks, state.mass_density, state.velocity, comm);
+        data.fragment         = &fragments.number;
+        last_fragments        = fragments.count;
+        last_fragments_time   = time;
+        fragments_found       = true;
+        if (output.fragments)
+          write_fragments(fragments, step, time);
+      }
     std::vector<std::unique_ptr<Vector<double>>> cell_storage;
     std::vector<OutputWriter::CellField>         cell_fields;
     std::vector<std::unique_ptr<VectorType>>     vector_storage;
@@ -245,6 +258,30 @@ namespace perideal
     output.write_fields(discretization.dof_handler, written_cells, cell_fields, vector_fields, step, time, comm);
     if (globals)
       output.write_globals(row, comm);
+  }
+
+  void
+  Postprocess::write_fragments(const Fragments &fragments, const unsigned int step, const double time)
+  {
+    if (Utilities::MPI::this_mpi_process(comm) != 0)
+      return;
+    // The first field step of the run starts the file; later ones append.
+    const std::string name = output.directory + "/" + output.base_name + ".fragments.csv";
+    std::ofstream     file(name, fragments_started ? std::ios::app : std::ios::trunc);
+    AssertThrow(file, ExcMessage("cannot write " + name));
+    if (!fragments_started)
+      file << "step,time,fragment,points,mass,velocity_x,velocity_y,velocity_z,kinetic_energy\n";
+    fragments_started = true;
+    file << std::setprecision(output.globals_digits);
+    for (std::size_t f = 0; f < fragments.rows.size(); ++f)
+      {
+        const Fragments::Row &row = fragments.rows[f];
+        file << step << ',' << time << ',' << f << ',' << row.points << ',' << row.mass;
+        for (unsigned int d = 0; d < dim; ++d)
+          file << ',' << row.momentum[d] / row.mass;
+        file << ',' << row.kinetic_energy << '\n';
+      }
+    AssertThrow(file, ExcMessage("cannot write " + name));
   }
 
   void
@@ -397,6 +434,10 @@ namespace perideal
       pcout << "  contact:                energy " << sci(record.last_contact_energy, 6) << ", friction work "
             << sci(record.contact_dissipation, 6) << "; the list built " << contact->builds
             << " times, search radius " << sci(contact->search_radius(), 4) << "\n";
+    if (fragments_found)
+      pcout << "  fragments:              " << last_fragments << " at t = " << sci(last_fragments_time, 6)
+            << (output.fragments ? " (" + output.directory + "/" + output.base_name + ".fragments.csv)" : std::string())
+            << "\n";
     if (e_ref > 0)
       pcout << "  energy balance error:   "
             << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy +

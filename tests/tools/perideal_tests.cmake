@@ -25,6 +25,11 @@ target_link_libraries(perideal_check ZLIB::ZLIB)
 
 # perideal_add_test(TEST NP TIMEOUT COMMAND...): one ctest case on NP ranks
 # with the suite's environment, labelled ${perideal_test_group}.
+# numdiff splits fields at whitespace only by default: a CSV row would be one
+# field, compared as text. NUMDIFF_ARGS with these split at commas too, so
+# the tolerances apply.
+set(CSV_SEPARATORS -s " \\t\\n,")
+
 function(perideal_add_test test np timeout)
   add_test(NAME ${test} COMMAND ${ARGN} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
   set_tests_properties(${test} PROPERTIES ENVIRONMENT "${PERIDEAL_TEST_ENVIRONMENT}"

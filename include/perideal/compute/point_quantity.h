@@ -29,6 +29,9 @@ namespace perideal
     const ContinuumField      *continuum;    // nullptr without continuum blocks
     const std::vector<double> *node_density; // per FE node of continuum; with it
     unsigned int               rank;         // this process's in the run's communicator
+    // Per owned point its fragment's number (compute/fragments.h); only at
+    // field steps that write fragments, else nullptr.
+    const std::vector<double> *fragment = nullptr;
   };
 
   class PointQuantity

@@ -106,6 +106,7 @@ namespace perideal
     unsigned int          globals_digits    = 10; // significant digits of the globals CSV
     std::set<std::string> variables;
     bool                  globals = true;
+    bool                  fragments = false; // <base name>.fragments.csv at field steps
 
   private:
     std::string                                 parameters;

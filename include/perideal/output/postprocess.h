@@ -26,6 +26,7 @@ namespace perideal
   class ConditionSet;
   class TimeIntegrator;
   class ContinuumField;
+  struct Fragments;
 
   class Postprocess
   {
@@ -58,6 +59,14 @@ namespace perideal
     /// What computes and output fields read, now.
     ComputeData
     compute_data() const;
+
+    /// Appends the rows of @p fragments to <base name>.fragments.csv (rank 0).
+    void
+    write_fragments(const Fragments &fragments, const unsigned int step, const double time);
+    bool        fragments_started   = false;
+    std::size_t last_fragments      = 0;
+    double      last_fragments_time = 0;
+    bool        fragments_found     = false; // at some field step
 
     Deck                       &deck;
     Discretization             &discretization;
