@@ -417,25 +417,50 @@ namespace perideal
   double
   ForceModel::released_energy(DamageSnapshot &before)
   {
-    const auto strain_energy = [&]() {
-      double e = 0;
-      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-        e += mechanical.energy_density[i] * cloud.volume[i];
+    // A point's energy density depends on its own family alone (Material),
+    // so only the points with a bond whose damage changed are evaluated
+    // again, with the damage before and after, into scratch arrays: the
+    // forces and energy densities of now stay as they are, and a point's
+    // stage fields end as the evaluation of now left them.
+    const unsigned int                     n = cloud.n_owned();
+    std::vector<std::vector<unsigned int>> changed(blocks.size());
+    for (unsigned int i = 0; i < n; ++i)
+      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+        if (broken[b] != before.broken[b] || (!damage.empty() && damage[b] != before.damage[b]))
+          {
+            changed[cloud.block[i]].push_back(i);
+            break;
+          }
+    std::vector<double> force(dim * n), energy(n);
+    const auto          strain_energy = [&]() {
+      ModelState state{cloud, bonds, broken.empty() ? nullptr : broken.data(), mechanical.displacement.begin(),
+                       force.data(), energy.data(), *fields};
+      state.time = time;
+      state.dt   = dt;
+      double e   = 0;
+      for (unsigned int k = 0; k < blocks.size(); ++k)
+        if (!changed[k].empty() && !blocks[k].rigid)
+          {
+            for (const unsigned int i : changed[k])
+              energy[i] = 0;
+            const ModelState s = block_state(state, k);
+            blocks[k].material->compute_stage(s, changed[k]);
+            blocks[k].material->compute_force(s, changed[k]);
+            for (const unsigned int i : changed[k])
+              e += energy[i] * cloud.volume[i];
+          }
       return e;
     };
-    const bool allowed = breaking_allowed;
-    breaking_allowed   = false;
+    // (No bond breaks in these evaluations: their states carry no breaking.)
     const auto swap = [&]() {
       broken.swap(before.broken);
       damage.swap(before.damage);
     };
     swap();
-    compute_forces(true);
     const double energy_before = strain_energy();
     swap();
-    compute_forces(true);
-    breaking_allowed = allowed;
-    return Utilities::MPI::sum(energy_before - strain_energy(), comm);
+    const double energy_now = strain_energy();
+    return Utilities::MPI::sum(energy_before - energy_now, comm);
   }
 
   ModelState

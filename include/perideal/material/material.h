@@ -254,7 +254,10 @@ namespace perideal
     {}
 
     /// Adds the force density of every point in @p points to state.force
-    /// and, if state.energy is set, writes its strain energy density.
+    /// and, if state.energy is set, writes its strain energy density. A
+    /// point's energy density depends on its own family's bonds and stage
+    /// fields alone (ForceModel::released_energy() evaluates only the points
+    /// whose bonds broke, compute_stage() then compute_force() on them).
     virtual void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const = 0;
 
