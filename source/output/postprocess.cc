@@ -18,10 +18,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 namespace perideal
 {
@@ -192,8 +192,6 @@ namespace perideal
         last_fragments        = fragments.count;
         last_fragments_time   = time;
         fragments_found       = true;
-        if (output.fragments)
-          write_fragments(fragments, step, time);
       }
     std::vector<std::unique_ptr<Vector<double>>> cell_storage;
     std::vector<OutputWriter::CellField>         cell_fields;
@@ -256,6 +254,9 @@ namespace perideal
         if (cell->is_locally_owned() && cell->active_fe_index() > 0)
           written_cells[cell->active_cell_index()] = true;
     output.write_fields(discretization.dof_handler, written_cells, cell_fields, vector_fields, step, time, comm);
+    // After the step's field files, before its globals row (README, Output).
+    if (output.fragments)
+      write_fragments(fragments, step, time);
     if (globals)
       output.write_globals(row, comm);
   }
@@ -265,13 +266,9 @@ namespace perideal
   {
     if (Utilities::MPI::this_mpi_process(comm) != 0)
       return;
-    // The first field step of the run starts the file; later ones append.
-    const std::string name = output.directory + "/" + output.base_name + ".fragments.csv";
-    std::ofstream     file(name, fragments_started ? std::ios::app : std::ios::trunc);
-    AssertThrow(file, ExcMessage("cannot write " + name));
-    if (!fragments_started)
+    std::ostringstream file;
+    if (fragments_csv.empty())
       file << "step,time,fragment,points,mass,velocity_x,velocity_y,velocity_z,kinetic_energy\n";
-    fragments_started = true;
     file << std::setprecision(output.globals_digits);
     for (std::size_t f = 0; f < fragments.rows.size(); ++f)
       {
@@ -281,7 +278,10 @@ namespace perideal
           file << ',' << row.momentum[d] / row.mass;
         file << ',' << row.kinetic_energy << '\n';
       }
-    AssertThrow(file, ExcMessage("cannot write " + name));
+    // Written whole through a temporary file, as the globals CSV: a run
+    // stopped at any moment leaves no half-written row.
+    fragments_csv += file.str();
+    write_file_atomically(output.directory + "/" + output.base_name + ".fragments.csv", fragments_csv);
   }
 
   void

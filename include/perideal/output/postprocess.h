@@ -60,10 +60,11 @@ namespace perideal
     ComputeData
     compute_data() const;
 
-    /// Appends the rows of @p fragments to <base name>.fragments.csv (rank 0).
+    /// Adds the rows of @p fragments to <base name>.fragments.csv and writes
+    /// it whole (rank 0), as the other output files.
     void
     write_fragments(const Fragments &fragments, const unsigned int step, const double time);
-    bool        fragments_started   = false;
+    std::string fragments_csv; // the file's text so far (rank 0)
     std::size_t last_fragments      = 0;
     double      last_fragments_time = 0;
     bool        fragments_found     = false; // at some field step
