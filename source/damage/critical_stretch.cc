@@ -31,9 +31,9 @@ namespace perideal
     static void
     declare_parameters(ParameterHandler &prm)
     {
-      prm.declare_entry("Critical stretch", "0", Patterns::Double(0),
+      prm.declare_entry("Critical stretch", "0", Patterns::Double(),
                         "s_c. 0: derive it from the critical energy release rate.");
-      prm.declare_entry("Critical energy release rate", "0", Patterns::Double(0),
+      prm.declare_entry("Critical energy release rate", "0", Patterns::Double(),
                         "G_c, used when Critical stretch is 0: s_c = sqrt(5 G_c / (9 K delta)).");
     }
 
@@ -43,6 +43,10 @@ namespace perideal
       path         = path_;
       given_sc     = prm.get_double("Critical stretch");
       release_rate = prm.get_double("Critical energy release rate");
+      // Checked here, not by the key's pattern: the parser's message names no section.
+      for (const auto &[key, value] : {std::make_pair("Critical stretch", given_sc),
+                                       std::make_pair("Critical energy release rate", release_rate)})
+        AssertThrow(value >= 0, ExcMessage(path + "/" + key + " must be >= 0 (0: not given), got " + prm.get(key)));
       AssertThrow(given_sc > 0 || release_rate > 0,
                   ExcMessage(path + ": set 'Critical stretch' or 'Critical energy "
                                     "release rate' to a positive value"));
@@ -65,15 +69,17 @@ namespace perideal
     std::size_t
     update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
     {
-      std::size_t n = 0;
-      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-        n = update<decltype(periodic)::value>(state, points, damage.broken);
-      });
-      return n;
+      return break_overstretched(state, points, sc, damage.broken);
+    }
+
+    bool
+    stretch_criterion() const override
+    {
+      return true;
     }
 
     double
-    critical_stretch() const override
+    critical_stretch(const double) const override
     {
       return sc;
     }
@@ -91,35 +97,6 @@ namespace perideal
   private:
     std::string path;
     double      given_sc = 0, release_rate = 0, sc = 0;
-
-    template <bool periodic>
-    std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const
-    {
-      const Periodicity   box      = state.cloud.periodicity;
-      const double       *X        = state.cloud.X.data();
-      const double       *u        = state.u;
-      const std::size_t  *offsets  = state.bonds.offsets.data();
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      // Compare squared lengths: |y| > (1 + s_c)|xi|, no square root per bond.
-      const double factor = stretch_squared_limit(sc);
-      std::size_t  n      = 0;
-      for (const unsigned int i : points)
-        {
-          const BondOrigin origin(X, u, i);
-#pragma omp simd reduction(+ : n)
-          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-            {
-              double e[3], y[3];
-              bond_vectors<periodic>(X, u, neighbor[b], origin, box, e, y);
-              n += break_if_overstretched(y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
-                                          e[0] * e[0] + e[1] * e[1] + e[2] * e[2],
-                                          factor,
-                                          broken[b]);
-            }
-        }
-      return n;
-    }
   };
 
   PERIDEAL_REGISTER(DamageModel, CriticalStretch, "Critical stretch",
@@ -127,11 +104,22 @@ namespace perideal
                     "two blocks breaks at the smaller s_c of the two blocks' critical-stretch models; "
                     "a block without damage model does not protect its bonds to one with this model.")
 
-  BondStretchLimits::BondStretchLimits(const std::vector<double> &critical_stretch,
-                                       const PointCloud          &cloud,
-                                       const Bonds               &bonds,
-                                       const MPI_Comm             comm)
-    : n_blocks(critical_stretch.size())
+  BondStretchLimits::BondStretchLimits(const unsigned int n_blocks_,
+                                       const PointCloud  &cloud,
+                                       const Bonds       &bonds,
+                                       const MPI_Comm     comm)
+    : n_blocks(n_blocks_)
+  {
+    reaches.assign(n_blocks * n_blocks, 0);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+        reaches[cloud.block[i] * n_blocks + cloud.block[bonds.neighbor[b]]] = 1;
+    Utilities::MPI::max(reaches, comm, reaches);
+    set(std::vector<double>(n_blocks, 0.0));
+  }
+
+  void
+  BondStretchLimits::set(const std::vector<double> &critical_stretch)
   {
     const double never = std::numeric_limits<double>::infinity();
     pair.assign(n_blocks * n_blocks, never);
@@ -140,25 +128,22 @@ namespace perideal
         for (const double sc : {critical_stretch[a], critical_stretch[b]})
           if (sc > 0)
             pair[a * n_blocks + b] = std::min(pair[a * n_blocks + b], stretch_squared_limit(sc));
-    // The smallest and largest limit of each block's bonds, over all ranks.
-    std::vector<double> lowest(n_blocks, never), highest(n_blocks, -never);
-    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-        {
-          const unsigned int k     = cloud.block[i];
-          const double       limit = pair[k * n_blocks + cloud.block[bonds.neighbor[b]]];
-          lowest[k]                = std::min(lowest[k], limit);
-          highest[k]               = std::max(highest[k], limit);
-        }
-    Utilities::MPI::min(lowest, comm, lowest);
-    Utilities::MPI::max(highest, comm, highest);
+    // A block's bonds share one limit if every block they reach (on any
+    // rank) gives the same.
     common.assign(n_blocks, 0.0);
     breaking.assign(n_blocks, false);
     for (unsigned int k = 0; k < n_blocks; ++k)
       {
-        breaking[k] = lowest[k] < never;
-        if (breaking[k] && lowest[k] == highest[k])
-          common[k] = lowest[k];
+        double lowest = never, highest = -never;
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          if (reaches[k * n_blocks + b])
+            {
+              lowest  = std::min(lowest, pair[k * n_blocks + b]);
+              highest = std::max(highest, pair[k * n_blocks + b]);
+            }
+        breaking[k] = lowest < never;
+        if (breaking[k] && lowest == highest)
+          common[k] = lowest;
       }
   }
 
@@ -195,7 +180,48 @@ namespace perideal
         }
       return n;
     }
+    template <bool periodic>
+    std::size_t
+    break_beyond(const ModelState &state, const std::vector<unsigned int> &points, const double sc, std::uint8_t *broken)
+    {
+      const Periodicity   box      = state.cloud.periodicity;
+      const double       *X        = state.cloud.X.data();
+      const double       *u        = state.u;
+      const std::size_t  *offsets  = state.bonds.offsets.data();
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      // Compare squared lengths: |y| > (1 + s_c)|xi|, no square root per bond.
+      const double factor = stretch_squared_limit(sc);
+      std::size_t  n      = 0;
+      for (const unsigned int i : points)
+        {
+          const BondOrigin origin(X, u, i);
+#pragma omp simd reduction(+ : n)
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              double e[3], y[3];
+              bond_vectors<periodic>(X, u, neighbor[b], origin, box, e, y);
+              n += break_if_overstretched(y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
+                                          e[0] * e[0] + e[1] * e[1] + e[2] * e[2],
+                                          factor,
+                                          broken[b]);
+            }
+        }
+      return n;
+    }
   } // namespace
+
+  std::size_t
+  break_overstretched(const ModelState                &state,
+                      const std::vector<unsigned int> &points,
+                      const double                     critical_stretch,
+                      std::uint8_t                    *broken)
+  {
+    std::size_t n = 0;
+    with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+      n = break_beyond<decltype(periodic)::value>(state, points, critical_stretch, broken);
+    });
+    return n;
+  }
 
   std::size_t
   BondStretchLimits::update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const

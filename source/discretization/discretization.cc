@@ -28,6 +28,7 @@ namespace perideal
     : scene(deck.scene)
     , regions(deck.regions)
     , bond_filters(deck.bond_filters)
+    , initial_damage(deck.initial_damage)
     , blocks(deck.blocks)
     , contact(deck.contact)
     , has_continuum(deck.has_continuum)
@@ -304,7 +305,54 @@ namespace perideal
         apply_bond_filters();
       if (has_continuum)
         drop_unweighted_bonds();
+      if (!initial_damage.empty())
+        apply_initial_damage();
     }
+  }
+
+  void
+  Discretization::apply_initial_damage()
+  {
+    const unsigned int n = cloud.n_owned();
+    initially_broken.assign(bonds.n_bonds(), 0);
+    initially_broken_bonds.assign(initial_damage.size(), 0);
+    const bool         periodic = cloud.periodicity.any();
+    LinearAlgebra::distributed::Vector<double> inside; // Type::region: 1 at the points in the region, ghosted
+    for (unsigned int d = 0; d < initial_damage.size(); ++d)
+      {
+        const InitialDamage &entry = initial_damage[d];
+        if (entry.type == InitialDamage::Type::region)
+          {
+            // Both owners of a bond must know whether either end is inside.
+            inside.reinit(cloud.scalar_partitioner);
+            for (unsigned int i = 0; i < n; ++i)
+              inside.local_element(i) = in_region(entry.region, cloud.position(i), cloud.cell[i]) ? 1.0 : 0.0;
+            inside.update_ghost_values();
+          }
+        for (unsigned int i = 0; i < n; ++i)
+          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+            {
+              const unsigned int j = bonds.neighbor[b];
+              bool               breaks;
+              if (entry.type == InitialDamage::Type::region)
+                breaks = inside.local_element(i) > 0 || inside.local_element(j) > 0;
+              else
+                {
+                  // As apply_bond_filters(): across a periodic face either image's cut cuts.
+                  const Point<dim> xi = cloud.position(i), xj = cloud.position(j);
+                  const auto       e  = cloud.bond_vector(i, j);
+                  breaks = periodic ? entry.plane.cuts(xi, xi + e) || entry.plane.cuts(xj - e, xj) :
+                                      entry.plane.cuts(xi, xj);
+                }
+              if (breaks && !initially_broken[b])
+                {
+                  initially_broken[b] = 1;
+                  ++initially_broken_bonds[d];
+                }
+            }
+      }
+    check_region_expressions();
+    Utilities::MPI::sum(initially_broken_bonds, comm, initially_broken_bonds);
   }
 
   void

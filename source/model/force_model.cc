@@ -116,12 +116,29 @@ namespace perideal
                                  "' sets a continuous bond damage, which material '" + blocks[k].material_name +
                                  "' does not read (it supports binary damage only, e.g. Critical stretch)"));
         }
-    if (any_damage)
+    // Initially broken bonds need the damage arrays even without a model.
+    if (!discretization.initially_broken.empty())
+      broken = discretization.initially_broken;
+    else if (any_damage)
       broken.assign(bonds.n_bonds(), 0);
-    // Both halves of a bond take the same continuous d only if both owners
-    // apply the same law: a bond from a block with a continuous model must
-    // end in a block with the same model.
-    if (std::find(continuous.begin(), continuous.end(), true) != continuous.end())
+    for (unsigned int d = 0; d < discretization.initial_damage.size(); ++d)
+      if (discretization.initially_broken_bonds[d] == 0)
+        {
+          const InitialDamage &entry = discretization.initial_damage[d];
+          record.warnings.push_back(
+            "Discretization/Initial damage/" + entry.name + " breaks no bond" +
+            (entry.type == InitialDamage::Type::plane ?
+               " (check its corner, vectors and lengths; the side runs along Bottom unit vector x Normal)" :
+               " (its region '" + entry.region + "' holds no point)"));
+        }
+    // Both halves of a bond take the same d only if both owners apply the
+    // same law: a bond from a block whose model decides by a law of its own
+    // (not a critical stretch, which BondStretchLimits applies across blocks)
+    // must end in a block with the same model.
+    std::vector<bool> own_law(blocks.size(), false);
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      own_law[k] = blocks[k].damage && !blocks[k].damage->stretch_criterion();
+    if (std::find(own_law.begin(), own_law.end(), true) != own_law.end())
       {
         std::pair<unsigned int, unsigned int> pair{0, 0};
         unsigned int                          mixed = 0;
@@ -129,7 +146,7 @@ namespace perideal
           for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
             {
               const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
-              if ((continuous[bi] || continuous[bj]) && blocks[bi].damage_name != blocks[bj].damage_name)
+              if ((own_law[bi] || own_law[bj]) && blocks[bi].damage_name != blocks[bj].damage_name)
                 mixed = 1, pair = {std::min(bi, bj), std::max(bi, bj)};
             }
         // The same pair on every rank that names one: the smallest.
@@ -142,15 +159,19 @@ namespace perideal
             const auto   model = [](const Block &x) {
               return x.damage_name.empty() ? std::string("no damage model") : "damage model '" + x.damage_name + "'";
             };
+            const bool cont = (a.damage && a.damage->continuous()) || (c.damage && c.damage->continuous());
             AssertThrow(false,
                         ExcMessage("blocks '" + a.name + "' (" + model(a) + ") and '" + c.name + "' (" + model(c) +
-                                   ") are within a horizon of each other, and one of them has a continuous "
-                                   "damage model: the two halves of a bond between them would follow "
+                                   ") are within a horizon of each other, and one of them has a " +
+                                   (cont ? "continuous damage model" :
+                                           "damage model with a law of its own (not a critical stretch)") +
+                                   ": the two halves of a bond between them would follow "
                                    "different laws. Give both blocks the same damage model, or separate "
                                    "them by more than a horizon"));
           }
-        damage.assign(bonds.n_bonds(), 0.0);
       }
+    if (std::find(continuous.begin(), continuous.end(), true) != continuous.end())
+      damage.assign(broken.begin(), broken.end()); // d = 1 where initially broken
 
     fields = std::make_unique<FieldStore>(cloud);
     mechanical.displacement.reinit(cloud.vector_partitioner);
@@ -195,16 +216,18 @@ namespace perideal
           blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
         fused_breaking.emplace_back();
       }
-    {
-      std::vector<double> critical_stretch(blocks.size(), 0.0);
-      for (unsigned int b = 0; b < blocks.size(); ++b)
-        if (blocks[b].damage)
-          critical_stretch[b] = blocks[b].damage->critical_stretch();
-      stretch_limits = BondStretchLimits(critical_stretch, cloud, bonds, comm);
-      for (unsigned int b = 0; b < blocks.size(); ++b)
-        if (stretch_limits.common_limit(b) > 0 && blocks[b].material->fuses_stretch_criterion())
-          fused_breaking[b] = {stretch_limits.common_limit(b), broken.data(), 0};
-    }
+    neglecting = false;
+    for (const auto &block : blocks)
+      neglecting |= block.damage && block.neglect_damage < 1;
+    n_neglected     = 0;
+    neglect_checked = std::numeric_limits<std::size_t>::max(); // check at the first evaluation
+    if (neglecting)
+      neglected.reinit(cloud.scalar_partitioner);
+    time_dependent_limits = false;
+    for (const auto &block : blocks)
+      time_dependent_limits |= block.damage && block.damage->stretch_criterion() && block.damage->time_dependent();
+    stretch_limits = BondStretchLimits(blocks.size(), cloud, bonds, comm);
+    set_stretch_limits();
     if (temperature_function)
       {
         temperature_change.reinit(cloud.scalar_partitioner);
@@ -217,6 +240,20 @@ namespace perideal
     fields->update_ghost_values(FieldUse::constant);
     // The history starts from the initial state.
     fields->commit();
+  }
+
+  void
+  ForceModel::set_stretch_limits()
+  {
+    std::vector<double> critical_stretch(blocks.size(), 0.0);
+    for (unsigned int b = 0; b < blocks.size(); ++b)
+      if (blocks[b].damage && blocks[b].damage->stretch_criterion())
+        critical_stretch[b] = blocks[b].damage->critical_stretch(time);
+    stretch_limits.set(critical_stretch);
+    for (unsigned int b = 0; b < blocks.size(); ++b)
+      fused_breaking[b] = {blocks[b].material->fuses_stretch_criterion() ? stretch_limits.common_limit(b) : 0.0,
+                           broken.data(),
+                           fused_breaking[b].newly_broken};
   }
 
   bool
@@ -260,6 +297,11 @@ namespace perideal
       s.breaking   = breaking_allowed && fused_breaking[k].squared_limit > 0 ? &fused_breaking[k] : nullptr;
       return s;
     };
+    if (neglecting && breaking_allowed)
+      {
+        TimerOutput::Scope t(timer, "damage");
+        neglect_damaged_points();
+      }
     if (!broken.empty() && breaking_allowed)
       {
         TimerOutput::Scope t(timer, "damage");
@@ -502,6 +544,48 @@ namespace perideal
     for (unsigned int k = 0; k < blocks.size(); ++k)
       newly += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, arrays());
     damage_updates += newly;
+    if (neglecting)
+      {
+        const std::size_t before = damage_updates;
+        neglect_damaged_points();
+        newly += damage_updates - before;
+      }
     return Utilities::MPI::sum(newly, comm);
+  }
+
+  void
+  ForceModel::neglect_damaged_points()
+  {
+    // A point's damage changes only when a bond of its own breaks, so a rank
+    // whose bonds did not change since the last check has nothing new.
+    std::size_t found = 0;
+    if (damage_updates != neglect_checked)
+      for (const auto &block : blocks)
+        if (block.damage && block.neglect_damage < 1)
+          for (const unsigned int i : block.points)
+            if (neglected.local_element(i) == 0 && point_damage(i) > block.neglect_damage)
+              {
+                neglected.local_element(i) = 1;
+                ++found;
+              }
+    neglect_checked = damage_updates;
+    if (Utilities::MPI::sum(found, comm) == 0)
+      return;
+    n_neglected += found;
+    neglected.update_ghost_values();
+    // Both owners of a bond see both ends' marks, so both halves break.
+    std::size_t newly = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+        if (!broken[b] && (neglected.local_element(i) > 0 || neglected.local_element(bonds.neighbor[b]) > 0))
+          {
+            broken[b] = 1;
+            if (!damage.empty())
+              damage[b] = 1;
+            ++newly;
+          }
+    // neglect_checked stays behind: the neighbors these bonds damaged are
+    // checked at the next evaluation.
+    damage_updates += newly;
   }
 } // namespace perideal

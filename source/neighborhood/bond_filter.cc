@@ -13,13 +13,19 @@ namespace perideal
   {
     prm.declare_entry("Type", "Rectangular plane", Patterns::Selection("Rectangular plane"),
                       "Rectangular plane: no bond crosses the rectangle (Peridigm's Rectangular_Plane).");
+    declare_plane_parameters(prm);
+  }
+
+  void
+  BondFilter::declare_plane_parameters(ParameterHandler &prm)
+  {
     prm.declare_entry("Lower left corner", "0,0,0", Patterns::List(Patterns::Double(), 3, 3),
                       "x,y,z of the rectangle's corner.");
     prm.declare_entry("Bottom unit vector", "1,0,0", Patterns::List(Patterns::Double(), 3, 3),
                       "Direction of the bottom edge from the corner (normalised).");
     prm.declare_entry("Normal", "0,1,0", Patterns::List(Patterns::Double(), 3, 3),
                       "Normal of the rectangle (normalised; must be perpendicular to the bottom edge). "
-                      "The side edge runs along Normal x Bottom unit vector.");
+                      "The side edge runs along Bottom unit vector x Normal, as in Peridigm.");
     prm.declare_entry("Bottom length", "0", Patterns::Double(0), "Length of the bottom edge.");
     prm.declare_entry("Side length", "0", Patterns::Double(0), "Length of the side edge.");
   }
@@ -43,7 +49,7 @@ namespace perideal
     normal /= normal.norm();
     AssertThrow(std::abs(bottom * normal) < 1e-6,
                 ExcMessage(path + ": Normal must be perpendicular to Bottom unit vector"));
-    side          = cross_product_3d(normal, bottom);
+    side          = cross_product_3d(bottom, normal); // Peridigm's orientation (BondFilter.cxx: ua = ub x n)
     bottom_length = prm.get_double("Bottom length");
     side_length   = prm.get_double("Side length");
     AssertThrow(bottom_length > 0 && side_length > 0,

@@ -333,9 +333,12 @@ namespace perideal
     for (unsigned int f = 0; f < deck.bond_filters.size(); ++f)
       pcout << "  bond filter '" << deck.bond_filters[f].name << "': " << discretization.filtered_bonds[f] << " directed bonds cut"
             << (discretization.filtered_bonds[f] == 0 ? " (none: check its corner, vectors and lengths; the side runs along "
-                                         "Normal x Bottom unit vector)" :
+                                         "Bottom unit vector x Normal, as in Peridigm)" :
                                          "")
             << "\n";
+    for (unsigned int d = 0; d < deck.initial_damage.size(); ++d)
+      pcout << "  initial damage '" << deck.initial_damage[d].name
+            << "': " << discretization.initially_broken_bonds[d] << " directed bonds start broken\n";
     if (Utilities::MPI::n_mpi_processes(comm) > 1)
       {
         // The bond loops dominate a step: bonds per rank is the load balance.
@@ -434,6 +437,12 @@ namespace perideal
       pcout << "  contact:                energy " << sci(record.last_contact_energy, 6) << ", friction work "
             << sci(record.contact_dissipation, 6) << "; the list built " << contact->builds
             << " times, search radius " << sci(contact->search_radius(), 4) << "\n";
+    const bool neglecting = std::any_of(deck.blocks.begin(), deck.blocks.end(),
+                                        [](const Block &b) { return b.damage && b.neglect_damage < 1; });
+    const auto neglected  = Utilities::MPI::sum(model.neglected_points(), comm);
+    if (neglecting)
+      pcout << "  neglected points:       " << neglected
+            << " (damage above their Critical damage to neglect material point: all bonds broken)\n";
     if (fragments_found)
       pcout << "  fragments:              " << last_fragments << " at t = " << sci(last_fragments_time, 6)
             << (output.fragments ? " (" + output.directory + "/" + output.base_name + ".fragments.csv)" : std::string())

@@ -55,6 +55,10 @@ namespace perideal
                           [&](const std::string &) { Region::declare_parameters(prm); });
     declare_named_section(prm, "Bond filters", "bond filters: planes no bond crosses (pre-cracks, notches)",
                           names.bond_filters, [&](const std::string &) { BondFilter::declare_parameters(prm); });
+    declare_named_section(prm, "Initial damage",
+                          "initial damage: bonds that start broken but stay in their families (they count in "
+                          "the point damage), across a rectangle or out of a region",
+                          names.initial_damage, [&](const std::string &) { InitialDamage::declare_parameters(prm); });
     prm.leave_subsection();
 
     declare_model_section<Material>(prm, "Materials", names.materials, declare_material_model_entry);
@@ -160,6 +164,7 @@ namespace perideal
     names.conditions    = {"My condition"};
     names.computes      = {"My compute"};
     names.bond_filters  = {"My filter"};
+    names.initial_damage = {"My initial damage"};
     for (const auto &m : Registry<Material>::instance().all())
       names.materials["My " + m.first + " material"] = m.first;
     for (const auto &m : Registry<DamageModel>::instance().all())
@@ -184,6 +189,7 @@ namespace perideal
     };
     set_names({"Discretization", "Regions"}, "My region");
     set_names({"Discretization", "Bond filters"}, "My filter");
+    set_names({"Discretization", "Initial damage"}, "My initial damage");
     set_names({"Materials"}, join(names.materials));
     set_names({"Damage models"}, join(names.damage_models));
     set_names({"Contact models"}, join(names.contact_models));
@@ -254,6 +260,7 @@ namespace perideal
       parse_input_file(prm, file, false);
       names.regions    = read_list(prm, {"Discretization", "Regions"});
       names.bond_filters = read_list(prm, {"Discretization", "Bond filters"});
+      names.initial_damage = read_list(prm, {"Discretization", "Initial damage"});
       names.blocks     = read_list(prm, {"Blocks"});
       names.conditions = read_list(prm, {"Boundary conditions"});
       names.computes   = read_list(prm, {"Computes"});
@@ -323,6 +330,20 @@ namespace perideal
         prm.leave_subsection();
       }
     prm.leave_subsection();
+    prm.enter_subsection("Initial damage");
+    for (const auto &name : names.initial_damage)
+      {
+        const std::string path = "Discretization/Initial damage/" + name;
+        prm.enter_subsection(name);
+        deck.initial_damage.emplace_back();
+        deck.initial_damage.back().name = name;
+        deck.initial_damage.back().parse_parameters(prm, path);
+        const std::string &region = deck.initial_damage.back().region;
+        AssertThrow(deck.initial_damage.back().type != InitialDamage::Type::region || deck.regions.count(region),
+                    ExcMessage(path + "/Region: '" + region + "' is not defined in Discretization/Regions/Names"));
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
     prm.leave_subsection();
 
     AssertThrow(!names.blocks.empty(),
@@ -388,6 +409,11 @@ namespace perideal
                              .get(names.damage_models.at(block.damage_name), "")
                              .create();
             block.damage->parse_parameters(prm, "Damage models/" + block.damage_name);
+            block.neglect_damage = prm.get_double("Critical damage to neglect material point");
+            AssertThrow(block.neglect_damage > 0 && block.neglect_damage <= 1,
+                        ExcMessage("Damage models/" + block.damage_name +
+                                   "/Critical damage to neglect material point must be in (0, 1] (1: never), got " +
+                                   prm.get("Critical damage to neglect material point")));
             prm.leave_subsection();
             prm.leave_subsection();
           }

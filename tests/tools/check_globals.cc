@@ -3,8 +3,9 @@
 // analytic answers. Usage:
 //   perideal_check globals verlet  CSV pd_app-stdout
 //   perideal_check globals blowup  CSV pd_app-stderr steps-asked
-//   perideal_check globals pair    CSV A T s_c K horizon
-//   perideal_check globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K (0: no energy check)
+//   perideal_check globals pair    CSV A T s_c K horizon [rate]
+//   perideal_check globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K (0: no energy check) [rate]
+// (rate: the critical stretch is s_c + rate t, Time dependent critical stretch.)
 // Prints the measured numbers with PASS/FAIL and returns non-zero on failure.
 // Serial; no MPI.
 
@@ -91,9 +92,11 @@ check_globals(int argc, char *argv[])
       std::vector<double>       a;
       for (int i = 3; i < argc; ++i)
         a.push_back(std::atof(argv[i]));
-      auto need = [&](const std::size_t n) {
-        if (a.size() != n)
-          throw std::runtime_error(mode + " needs " + std::to_string(n) + " numbers after the CSV");
+      auto need = [&](const std::size_t n, const std::size_t optional = 0) {
+        if (a.size() < n || a.size() > n + optional)
+          throw std::runtime_error(mode + " needs " + std::to_string(n) +
+                                   (optional ? " to " + std::to_string(n + optional) : std::string()) +
+                                   " numbers after the CSV");
       };
       std::cout << rows.size() << " rows, last step " << rows.back().step << "\n";
 
@@ -182,19 +185,19 @@ check_globals(int argc, char *argv[])
           // s = 2 A sin(pi t / T). The bond breaks at the first step with
           // s > s_c and stays broken; PMB strain energy of the intact bond
           // (both halves) is c s^2 |xi| V^2 / 2 with c = 18 K / (pi delta^4).
-          need(5);
-          const double A = a[0], T = a[1], sc = a[2], K = a[3], delta = a[4];
+          need(5, 1);
+          const double A = a[0], T = a[1], sc = a[2], K = a[3], delta = a[4], rate = a.size() > 5 ? a[5] : 0;
           const double c = 18 * K / (M_PI * std::pow(delta, 4));
-          double       s_max = -1, closest = 1e300;
+          double       closest = 1e300;
+          bool         broken  = false;
           int          break_step = -1;
           unsigned int bad_broken = 0, bad_damage = 0;
           double       bad_energy = 0;
           for (const auto &r : rows)
             {
-              const double s = 2 * A * std::sin(M_PI * r.time / T);
-              closest = std::min(closest, std::abs(s - sc));
-              s_max = std::max(s_max, s);
-              const bool broken = s_max > sc;
+              const double s = 2 * A * std::sin(M_PI * r.time / T), sc_t = sc + rate * r.time;
+              closest = std::min(closest, std::abs(s - sc_t));
+              broken |= s > sc_t;
               if (broken && break_step < 0)
                 break_step = int(r.step);
               bad_broken += r.broken != (broken ? 1 : 0);
@@ -227,10 +230,10 @@ check_globals(int argc, char *argv[])
           // stretch. Point damage is the broken share of the family (uniform
           // volumes); strain energy (PMB) sums c s^2 |xi| V^2 / 2 over intact
           // bonds (K = 0: not checked, for the other models).
-          need(12);
+          need(12, 1);
           const unsigned int nx = a[0], ny = a[1], nz = a[2];
           const double       Lx = a[3], Ly = a[4], Lz = a[5], delta = a[6], xs = a[7], D = a[8], T = a[9],
-                       sc = a[10], K = a[11];
+                       sc = a[10], K = a[11], rate = a.size() > 12 ? a[12] : 0;
           const double hx = Lx / nx, hy = Ly / ny, hz = Lz / nz, V = hx * hy * hz;
           const double c  = 18 * K / (M_PI * std::pow(delta, 4));
           std::vector<std::array<double, 3>> X;
@@ -263,7 +266,7 @@ check_globals(int argc, char *argv[])
           double            bad_energy = 0, d_max = 0, closest = 1e300;
           for (const auto &r : rows)
             {
-              const double d = D * std::sin(M_PI * r.time / T);
+              const double d = D * std::sin(M_PI * r.time / T), sc_t = sc + rate * r.time;
               d_max          = std::max(d_max, d);
               double       energy = 0;
               unsigned int count  = 0;
@@ -273,8 +276,8 @@ check_globals(int argc, char *argv[])
                   const Bond  &e = crossing[b];
                   const double r = std::sqrt((e.ex + d) * (e.ex + d) + e.ey * e.ey + e.ez * e.ez);
                   const double s = (r - e.r0) / e.r0;
-                  closest = std::min(closest, std::abs(s - sc));
-                  broken[b] |= s > sc;
+                  closest = std::min(closest, std::abs(s - sc_t));
+                  broken[b] |= s > sc_t;
                   if (broken[b])
                     ++count, ++broken_of[e.i], ++broken_of[e.j];
                   else

@@ -13,9 +13,11 @@
 // long bonds break first, unlike a critical stretch (one s_c for all).
 //
 // Bond i->j and j->i are decided by their owners, from the positions both
-// have, so both halves break in the same evaluation; between blocks of
-// different K or G_c they would not (critical_stretch.cc's BondStretchLimits
-// shows how to decide such bonds alike).
+// have, so both halves break in the same evaluation. Between blocks with
+// different damage models (or different K) they would not: the core refuses
+// a bond from a block with a law of its own to a block with another damage
+// model (ForceModel::setup); critical_stretch.cc's BondStretchLimits shows
+// how a stretch criterion decides such bonds alike.
 //
 // The state it keeps, to show a damage model's point_fields(): a local field,
 // output "Bond energy ratio", the largest w / w_c over a point's intact bonds
@@ -83,13 +85,9 @@ namespace perideal
       return n;
     }
 
-    // 0: not a critical stretch, so no material fuses this test into its
-    // bond loop and the core calls update().
-    double
-    critical_stretch() const override
-    {
-      return 0;
-    }
+    // Not a stretch criterion (stretch_criterion() is false by default), so
+    // no material fuses this test into its bond loop and the core calls
+    // update().
 
     // One line for the set-up report.
     std::string

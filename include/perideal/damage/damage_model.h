@@ -72,13 +72,30 @@ namespace perideal
     virtual std::size_t
     update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const = 0;
 
-    /// s_c if the model breaks a bond exactly when its stretch exceeds s_c
-    /// and decides nothing else; a material may then fuse the test into its
-    /// force loop (Material::fuses_stretch_criterion()). 0 otherwise.
+    /// True if the model breaks a bond exactly when its stretch exceeds
+    /// critical_stretch(t) and decides nothing else. The core then applies it
+    /// with one rule across blocks (BondStretchLimits), and a material may
+    /// fuse the test into its force loop (Material::fuses_stretch_criterion());
+    /// update() is not called for the block.
+    virtual bool
+    stretch_criterion() const
+    {
+      return false;
+    }
+
+    /// s_c > 0 at time @p t, for a stretch_criterion() model.
     virtual double
-    critical_stretch() const
+    critical_stretch(const double /*t*/) const
     {
       return 0;
+    }
+
+    /// True if critical_stretch() changes with time: the core then refreshes
+    /// the limits before every evaluation that may break bonds.
+    virtual bool
+    time_dependent() const
+    {
+      return false;
     }
 
     /// A one-line description for the set-up report.
@@ -98,7 +115,7 @@ namespace perideal
    * The critical stretch of every bond, across blocks too: a bond between
    * blocks A and B (A = B within a block) breaks for good when its stretch
    * exceeds the smaller s_c of those of A and B whose damage model is a
-   * critical stretch (DamageModel::critical_stretch() > 0). A block without
+   * critical stretch (DamageModel::stretch_criterion()). A block without
    * one does not protect its bonds to a block with one; a bond between two
    * blocks without one never breaks. The limit depends on the two blocks
    * only, and both owners test the same lengths (bond_vectors()), so i->j
@@ -114,12 +131,14 @@ namespace perideal
   public:
     BondStretchLimits() = default;
 
-    /// @p critical_stretch: by block, 0 where the block has no critical
-    /// stretch. Collective.
-    BondStretchLimits(const std::vector<double> &critical_stretch,
-                      const PointCloud          &cloud,
-                      const Bonds               &bonds,
-                      const MPI_Comm             comm);
+    /// Finds which blocks the bonds of each of @p n_blocks blocks reach, on
+    /// any rank; no bond breaks until set(). Collective.
+    BondStretchLimits(const unsigned int n_blocks, const PointCloud &cloud, const Bonds &bonds, const MPI_Comm comm);
+
+    /// The critical stretch of each block (0: none), e.g. at a new time. Not
+    /// collective: what differs between ranks was found by the constructor.
+    void
+    set(const std::vector<double> &critical_stretch);
 
     /// (1 + s_c)^2 of every bond of block @p k's points if they share one
     /// (on every rank), else 0.
@@ -142,14 +161,23 @@ namespace perideal
     update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const;
 
   private:
-    unsigned int        n_blocks = 0;
-    std::vector<double> pair;     // (1 + s_c)^2 by block pair a * n_blocks + b; +infinity: never
-    std::vector<double> common;   // by block
-    std::vector<bool>   breaking; // by block
+    unsigned int              n_blocks = 0;
+    std::vector<unsigned int> reaches;  // by block pair a * n_blocks + b: a bond of a's points ends in b (any rank)
+    std::vector<double>       pair;     // (1 + s_c)^2 by block pair a * n_blocks + b; +infinity: never
+    std::vector<double>       common;   // by block
+    std::vector<bool>         breaking; // by block
   };
 
+  /// Breaks the bonds of @p points whose stretch exceeds @p critical_stretch:
+  /// the update() of a stretch criterion with one s_c for every bond.
+  std::size_t
+  break_overstretched(const ModelState                &state,
+                      const std::vector<unsigned int> &points,
+                      const double                     critical_stretch,
+                      std::uint8_t                    *broken);
+
   /// The damage pass of block @p k outside a material's bond loop: its own
-  /// model's update() if that is not a critical stretch (@p model may be
+  /// model's update() if that is not a stretch criterion (@p model may be
   /// null), else @p limits' pass if some bond of the block may break.
   inline std::size_t
   damage_pass(const DamageModel               *model,
@@ -159,7 +187,7 @@ namespace perideal
               const std::vector<unsigned int> &points,
               const BondDamageArrays          &damage)
   {
-    if (model && model->critical_stretch() == 0)
+    if (model && !model->stretch_criterion())
       return model->update(state, points, damage);
     return limits.may_break(k) ? limits.update(state, points, damage.broken) : 0;
   }

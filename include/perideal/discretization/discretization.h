@@ -9,6 +9,7 @@
 
 #include <perideal/base/memory.h>
 #include <perideal/discretization/point_cloud.h>
+#include <perideal/damage/initial_damage.h>
 #include <perideal/geometry/region.h>
 #include <perideal/geometry/scene.h>
 #include <perideal/model/block.h>
@@ -73,6 +74,7 @@ namespace perideal
     const Scene                                          &scene;
     const std::map<std::string, std::unique_ptr<Region>> &regions;
     const std::vector<BondFilter>                        &bond_filters;
+    const std::vector<InitialDamage>                     &initial_damage;
     std::vector<Block>                                   &blocks;
     const ContactParameters &contact; // which blocks may hold particles without bonds
     const bool                                            has_continuum;
@@ -85,6 +87,8 @@ namespace perideal
     PointCloud                    cloud;
     Bonds                         bonds;
     std::vector<std::size_t>      filtered_bonds;       // per filter: directed bonds it cut (all ranks)
+    std::vector<std::uint8_t>     initially_broken;     // per bond: 1 if it starts broken; empty without initial damage
+    std::vector<std::size_t>      initially_broken_bonds; // per initial damage entry: directed bonds it broke (all ranks)
     double                        unbalanced_bonds = 0; // % above the mean before rebalancing, 0: not needed
     // Continuum runs: the PD energy weight per owned point, 1 - alpha per
     // active FE cell, and per active cell 1 + its virtual point levels (0: none).
@@ -112,6 +116,10 @@ namespace perideal
     /// Removes the bonds that cross a bond filter; counts them per filter.
     void
     apply_bond_filters();
+    /// Marks the bonds of the initial damage entries broken
+    /// (initially_broken); counts them per entry. Collective.
+    void
+    apply_initial_damage();
     /// A point without a neighbor cannot carry load: stops naming the first.
     void
     check_isolated_points() const;

@@ -19,6 +19,7 @@ namespace perideal
     std::string               region;
     std::string               material_name, damage_name;
     double                    horizon   = 0;
+    double                    neglect_damage = 1; // its damage model's Critical damage to neglect material point (1: never)
     bool                      continuum = false; // FE cells; its points are virtual points
     bool                      rigid     = false; // moves as one body; no bonds; its material gives only the density
     unsigned int              fe_degree = 1;

@@ -79,6 +79,14 @@ namespace perideal
     double
     stable_time_step();
 
+    /// The points this rank has neglected so far (Critical damage to
+    /// neglect material point): their bonds all broken.
+    std::size_t
+    neglected_points() const
+    {
+      return n_neglected;
+    }
+
     /// 1 - (intact neighbor volume)/(neighbor volume) of owned point @p i.
     double
     point_damage(const unsigned int i) const;
@@ -130,6 +138,8 @@ namespace perideal
       dt   = dt_;
       if (temperature_function && temperature_function->depends_on_time())
         update_temperature();
+      if (time_dependent_limits)
+        set_stretch_limits();
     }
 
     /// The temperature field T(x, y, z, t) and T_ref (thermal strain,
@@ -216,6 +226,22 @@ namespace perideal
     // (squared_limit 0: not fused, damage_pass() runs its own pass).
     std::vector<StretchBreaking> fused_breaking;
     BondStretchLimits            stretch_limits; // the critical stretch of each bond, across blocks
+    bool                         time_dependent_limits = false; // some block's critical stretch depends on time
+    // Critical damage to neglect material point: 1 at a point once neglected,
+    // ghosted; allocated only if some block's threshold is below 1.
+    VectorType  neglected;
+    bool        neglecting      = false;
+    std::size_t neglect_checked = 0; // damage_updates when the points were last checked
+    std::size_t n_neglected     = 0;
+    /// Neglects the points of this rank whose damage exceeds their block's
+    /// threshold, then breaks every intact bond with a neglected end, on
+    /// every rank (both halves alike). Collective.
+    void
+    neglect_damaged_points();
+    /// The critical stretches of every block at the current time, into
+    /// stretch_limits and the fused limits.
+    void
+    set_stretch_limits();
     const std::vector<double>   *body_force = nullptr;
     Coupling                    *coupling   = nullptr;
     Contact                     *contact    = nullptr;

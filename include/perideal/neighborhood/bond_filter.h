@@ -5,8 +5,9 @@
 // so a pre-crack or notch of zero width cuts the material exactly, which a
 // slot of removed cells narrower than a horizon does not (bonds reach across
 // it). The rectangle: a corner, the unit vector along its bottom edge, its
-// normal, the bottom edge's length and the side's (the side runs along
-// normal x bottom).
+// normal, the bottom edge's length and the side's. The side runs along
+// bottom x normal, as in Peridigm (PeriDeal before 2026-12 took
+// normal x bottom: such a deck keeps its rectangle with Normal negated).
 
 #include <perideal/base/input.h>
 
@@ -22,6 +23,9 @@ namespace perideal
   public:
     static void
     declare_parameters(ParameterHandler &prm);
+    /// The rectangle's keys without Type (shared with InitialDamage).
+    static void
+    declare_plane_parameters(ParameterHandler &prm);
     /// @p path names the subsection in error messages.
     void
     parse_parameters(ParameterHandler &prm, const std::string &path);

@@ -10,6 +10,7 @@
 #include <perideal/compute/region_compute.h>
 #include <perideal/conditions/boundary_conditions.h>
 #include <perideal/contact/contact.h>
+#include <perideal/damage/initial_damage.h>
 #include <perideal/geometry/region.h>
 #include <perideal/geometry/scene.h>
 #include <perideal/model/block.h>
@@ -29,7 +30,8 @@ namespace perideal
   /// The user-chosen names of a parameter file (and the model of each).
   struct DeckNames
   {
-    std::vector<std::string>           regions, bond_filters, blocks, conditions, computes, contact_interactions;
+    std::vector<std::string>           regions, bond_filters, initial_damage, blocks, conditions, computes,
+      contact_interactions;
     std::map<std::string, std::string> materials, damage_models, contact_models; // name -> model ("" unknown yet)
   };
 
@@ -74,6 +76,7 @@ namespace perideal
     Scene                                          scene;
     std::map<std::string, std::unique_ptr<Region>> regions;
     std::vector<BondFilter>                        bond_filters;
+    std::vector<InitialDamage>                     initial_damage;
     std::vector<Block>                             blocks;
     bool                                           has_continuum = false;
     CouplingParameters                             coupling;
