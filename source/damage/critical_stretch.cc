@@ -4,7 +4,8 @@
 //   s_c = sqrt(5 G_c / (9 K delta)).
 // Both owners compute the same s from the same positions, so both halves of
 // a bond break in the same step. Across blocks a bond breaks at the smaller
-// s_c of its two blocks' critical-stretch models; a block without one does
+// s_c of its two blocks' stretch criteria (an Interface aware block gives its
+// interfaces a value of their own); a block without one does
 // not protect its bonds to a block with one, and a bond between two blocks
 // without one never breaks (BondStretchLimits in damage_model.h: the core
 // applies it, so both halves of a bond are decided alike).
@@ -115,17 +116,17 @@ namespace perideal
       for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
         reaches[cloud.block[i] * n_blocks + cloud.block[bonds.neighbor[b]]] = 1;
     Utilities::MPI::max(reaches, comm, reaches);
-    set(std::vector<double>(n_blocks, 0.0));
+    set(std::vector<double>(n_blocks, 0.0), std::vector<double>(n_blocks, 0.0));
   }
 
   void
-  BondStretchLimits::set(const std::vector<double> &critical_stretch)
+  BondStretchLimits::set(const std::vector<double> &within, const std::vector<double> &across)
   {
     const double never = std::numeric_limits<double>::infinity();
     pair.assign(n_blocks * n_blocks, never);
     for (unsigned int a = 0; a < n_blocks; ++a)
       for (unsigned int b = 0; b < n_blocks; ++b)
-        for (const double sc : {critical_stretch[a], critical_stretch[b]})
+        for (const double sc : {a == b ? within[a] : across[a], a == b ? within[a] : across[b]})
           if (sc > 0)
             pair[a * n_blocks + b] = std::min(pair[a * n_blocks + b], stretch_squared_limit(sc));
     // A block's bonds share one limit if every block they reach (on any

@@ -245,11 +245,14 @@ namespace perideal
   void
   ForceModel::set_stretch_limits()
   {
-    std::vector<double> critical_stretch(blocks.size(), 0.0);
+    std::vector<double> within(blocks.size(), 0.0), across(blocks.size(), 0.0);
     for (unsigned int b = 0; b < blocks.size(); ++b)
       if (blocks[b].damage && blocks[b].damage->stretch_criterion())
-        critical_stretch[b] = blocks[b].damage->critical_stretch(time);
-    stretch_limits.set(critical_stretch);
+        {
+          within[b] = blocks[b].damage->critical_stretch(time);
+          across[b] = blocks[b].damage->interface_critical_stretch(time);
+        }
+    stretch_limits.set(within, across);
     for (unsigned int b = 0; b < blocks.size(); ++b)
       fused_breaking[b] = {blocks[b].material->fuses_stretch_criterion() ? stretch_limits.common_limit(b) : 0.0,
                            broken.data(),

@@ -301,7 +301,16 @@ mode_interrupt() {
       [[ -s $p ]] || fail "piece $p of a .pvtu is missing"
     done
     vtus=$(ls ./*.vtu | sed 's|^\./||' | sort)
-    [[ $vtus == "$pieces" ]] || fail "a .vtu that no .pvtu lists"
+    # A kill after a step's pieces got their names and before its .pvtu was
+    # written leaves that one step's pieces (whole) not yet listed.
+    local extra stems
+    extra=$(comm -23 <(echo "$vtus") <(echo "$pieces"))
+    if [[ -n $extra ]]; then
+      stems=$(sed -E 's/\.[0-9]{4}\.vtu$//' <<<"$extra" | sort -u)
+      [[ $(wc -l <<<"$stems") == 1 && ! -e "$stems.pvtu" ]] ||
+        fail "a .vtu that no .pvtu lists, of more than the step being written: $(tr '\n' ' ' <<<"$extra")"
+      echo "pieces of the step being written, not yet listed: $(tr '\n' ' ' <<<"$extra")"
+    fi
     echo "PASS: killed; the files written consistent"
     exit 0
   fi

@@ -90,6 +90,16 @@ namespace perideal
       return 0;
     }
 
+    /// The limit this model sets on the bonds from its block to another
+    /// block at time @p t (a bond between blocks breaks at the smaller of
+    /// its two blocks' values): critical_stretch() unless the model gives an
+    /// interface a strength of its own (Interface aware).
+    virtual double
+    interface_critical_stretch(const double t) const
+    {
+      return critical_stretch(t);
+    }
+
     /// True if critical_stretch() changes with time: the core then refreshes
     /// the limits before every evaluation that may break bonds.
     virtual bool
@@ -112,10 +122,12 @@ namespace perideal
   }
 
   /**
-   * The critical stretch of every bond, across blocks too: a bond between
-   * blocks A and B (A = B within a block) breaks for good when its stretch
-   * exceeds the smaller s_c of those of A and B whose damage model is a
-   * critical stretch (DamageModel::stretch_criterion()). A block without
+   * The critical stretch of every bond, across blocks too: a bond within
+   * block A breaks for good when its stretch exceeds A's s_c, a bond between
+   * blocks A and B when it exceeds the smaller of the values A and B set on
+   * their interfaces (DamageModel::interface_critical_stretch(), their s_c
+   * unless the model gives the interface its own) among those whose damage
+   * model is a stretch criterion (DamageModel::stretch_criterion()). A block without
    * one does not protect its bonds to a block with one; a bond between two
    * blocks without one never breaks. The limit depends on the two blocks
    * only, and both owners test the same lengths (bond_vectors()), so i->j
@@ -135,10 +147,11 @@ namespace perideal
     /// any rank; no bond breaks until set(). Collective.
     BondStretchLimits(const unsigned int n_blocks, const PointCloud &cloud, const Bonds &bonds, const MPI_Comm comm);
 
-    /// The critical stretch of each block (0: none), e.g. at a new time. Not
-    /// collective: what differs between ranks was found by the constructor.
+    /// The critical stretch of each block within it and to other blocks
+    /// (0: none), e.g. at a new time. Not collective: what differs between
+    /// ranks was found by the constructor.
     void
-    set(const std::vector<double> &critical_stretch);
+    set(const std::vector<double> &within, const std::vector<double> &across);
 
     /// (1 + s_c)^2 of every bond of block @p k's points if they share one
     /// (on every rank), else 0.
