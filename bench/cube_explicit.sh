@@ -29,13 +29,17 @@
 #               critical stretch 0.005: a continuous damage (8 bytes more per
 #               bond, a pass of its own before the force); other physics, so
 #               only its rate compares (ratio column against LAMMPS' dmg)
+#   dmg-energy  as dmg with PeriDeal's Critical energy, G_c = 9 K s_c^2 horizon / 5
+#               (the release rate of dmg's critical stretch): a pass of its
+#               own before the force, the material's bond energies (PMB and
+#               LPS only; ratio column against LAMMPS' dmg)
 #
 # Every case runs PeriDeal, then LAMMPS right after it (interleaved), so that
 # both see about the same machine load; compare ratios, not absolute times.
 #
 # usage: bench/cube_explicit.sh [options]
 #   -m, --models LIST      pmb lps eps ves corr         (default: "pmb lps")
-#   -v, --variants LIST    elastic elastic-nd dmg dmg-time dmg-soft  (default: "elastic dmg")
+#   -v, --variants LIST    elastic elastic-nd dmg dmg-time dmg-soft dmg-energy  (default: "elastic dmg")
 #   -n, --sizes LIST       points per edge              (default: "20 40 60")
 #   -r, --ranks LIST       MPI ranks                    (default: "1 2")
 #   -R, --reps N           repetitions of every case    (default: 1)
@@ -135,7 +139,7 @@ while [ $# -gt 0 ]; do
 done
 
 for m in $MODELS; do case $m in pmb|lps|eps|ves|corr) ;; *) echo "Error: unknown model '$m'" >&2; exit 2;; esac; done
-for v in $VARIANTS; do case $v in elastic|elastic-nd|dmg|dmg-time|dmg-soft) ;; *) echo "Error: unknown variant '$v'" >&2; exit 2;; esac; done
+for v in $VARIANTS; do case $v in elastic|elastic-nd|dmg|dmg-time|dmg-soft|dmg-energy) ;; *) echo "Error: unknown variant '$v'" >&2; exit 2;; esac; done
 for c in $CODES; do case $c in perideal|lammps) ;; *) echo "Error: unknown code '$c'" >&2; exit 2;; esac; done
 
 has() { case " $2 " in *" $1 "*) return 0;; *) return 1;; esac; }
@@ -166,7 +170,7 @@ bond_count() {
 variant_params() { # -> "s_c vamp"
   case $1 in
     elastic|elastic-nd) echo "1.0 0.01";;
-    dmg|dmg-time|dmg-soft) echo "0.005 0.02";;
+    dmg|dmg-time|dmg-soft|dmg-energy) echo "0.005 0.02";;
   esac
 }
 
@@ -221,6 +225,9 @@ write_prm() { # model variant n file output-frequency output-variables lps-influ
         echo "    set Model = Linear softening"
         echo "    set Onset stretch = $(awk -v s="$sc" 'BEGIN { print 0.8 * s }')"
         echo "    set Critical stretch = $sc"
+      elif [ "$var" = dmg-energy ]; then
+        echo "    set Model = Critical energy"
+        echo "    set Critical energy release rate = $(awk -v s="$sc" -v h="$horizon" 'BEGIN { printf "%.15g", 9 * s * s * h / 5 }')"
       else
         echo "    set Model = Critical stretch"
         echo "    set Critical stretch = $sc"
@@ -355,7 +362,7 @@ summarize() { # results.tsv
       if (m == "corr") return "perideal" SUBSEP "lps" SUBSEP v SUBSEP n SUBSEP r
       k = "lammps" SUBSEP m SUBSEP v SUBSEP n SUBSEP r
       if (!(k in U) && v == "elastic-nd") k = "lammps" SUBSEP m SUBSEP "elastic" SUBSEP n SUBSEP r
-      if (!(k in U) && (v == "dmg-time" || v == "dmg-soft")) k = "lammps" SUBSEP m SUBSEP "dmg" SUBSEP n SUBSEP r
+      if (!(k in U) && (v == "dmg-time" || v == "dmg-soft" || v == "dmg-energy")) k = "lammps" SUBSEP m SUBSEP "dmg" SUBSEP n SUBSEP r
       return k
     }
     NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
@@ -749,7 +756,7 @@ for rep in $(seq 1 "$REPS"); do
         for np in $RANKS; do
           has perideal "$CODES" && run_perideal "$m" "$v" "$n" "$np" "$rep"
           has perideal "$CODES" && [ "$PAIR" = 1 ] && [ "$np" = 1 ] && run_perideal_pair "$m" "$v" "$n" "$rep"
-          has lammps "$CODES" && has_lammps "$m" && [ "$v" != dmg-time ] && [ "$v" != dmg-soft ] && run_lammps "$m" "$v" "$n" "$np" "$rep"
+          has lammps "$CODES" && has_lammps "$m" && [ "$v" != dmg-time ] && [ "$v" != dmg-soft ] && [ "$v" != dmg-energy ] && run_lammps "$m" "$v" "$n" "$np" "$rep"
         done
       done
     done

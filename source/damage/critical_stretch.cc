@@ -26,7 +26,7 @@ namespace perideal
 {
   using namespace dealii;
 
-  class CriticalStretch : public DamageModel
+  class CriticalStretch : public StretchCriterion
   {
   public:
     static void
@@ -65,18 +65,6 @@ namespace perideal
       sc = given_sc > 0 ?
              given_sc :
              std::sqrt(5 * release_rate / (9 * material.bulk_modulus() * horizon));
-    }
-
-    std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
-    {
-      return break_overstretched(state, points, sc, damage.broken);
-    }
-
-    bool
-    stretch_criterion() const override
-    {
-      return true;
     }
 
     double

@@ -20,7 +20,7 @@ namespace perideal
 {
   using namespace dealii;
 
-  class InterfaceAware : public DamageModel
+  class InterfaceAware : public StretchCriterion
   {
   public:
     static void
@@ -49,20 +49,6 @@ namespace perideal
     void
     initialize(const Material &, const double) override
     {}
-
-    /// The core applies the limits by block pair (BondStretchLimits); this
-    /// pass, for a block alone, breaks its bonds at s_c.
-    std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
-    {
-      return break_overstretched(state, points, sc, damage.broken);
-    }
-
-    bool
-    stretch_criterion() const override
-    {
-      return true;
-    }
 
     double
     critical_stretch(const double) const override

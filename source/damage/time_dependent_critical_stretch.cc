@@ -23,7 +23,7 @@ namespace perideal
 {
   using namespace dealii;
 
-  class TimeDependentCriticalStretch : public DamageModel
+  class TimeDependentCriticalStretch : public StretchCriterion
   {
   public:
     static void
@@ -46,18 +46,6 @@ namespace perideal
     void
     initialize(const Material &, const double) override
     {}
-
-    std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
-    {
-      return break_overstretched(state, points, critical_stretch(state.time), damage.broken);
-    }
-
-    bool
-    stretch_criterion() const override
-    {
-      return true;
-    }
 
     double
     critical_stretch(const double t) const override

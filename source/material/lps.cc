@@ -247,6 +247,32 @@ namespace perideal
     }
 
     bool
+    has_bond_energy() const override
+    {
+      return true;
+    }
+
+    /// w = t e / 2 with t = t_ij + t_ji the bond's scalar force state (both
+    /// halves, as compute_force()) and e its mechanical extension: summed
+    /// over a point's family, sum_j t_ij e V_j / 2 is its energy density
+    /// W_i exactly (doc/models.md), so the pairs share the strain energy.
+    void
+    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
+    {
+      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+        with_flag(thermal(state), [&](auto heated) {
+          constexpr bool P = decltype(periodic)::value, T = decltype(heated)::value;
+          if (state.damage)
+            energy_kernel<P, T, BondDamage::continuous>(state, i, w);
+          else if (state.broken)
+            energy_kernel<P, T, BondDamage::read>(state, i, w);
+          else
+            energy_kernel<P, T, BondDamage::none>(state, i, w);
+        });
+      });
+    }
+
+    bool
     weight_energy(const ModelState &state, const std::vector<unsigned int> &points, const double *weight) override
     {
       // The force state of point i is omega (gamma_i theta_i |xi| + beta_i e):
@@ -501,6 +527,46 @@ namespace perideal
         }
       if (mode == BondDamage::breaking)
         state.breaking->newly_broken += newly_broken;
+    }
+
+    /// bond_energies() of point @p i: force()'s bond scalar t (both halves)
+    /// times e / 2; with partial volumes per unit volume (omega carries beta).
+    template <bool periodic, bool heated, BondDamage mode>
+    void
+    energy_kernel(const ModelState &state, const unsigned int i, double *w_out) const
+    {
+      const Periodicity   box      = state.cloud.periodicity;
+      const double       *X        = state.cloud.X.data();
+      const double       *u        = state.u;
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      const double       *alpha    = state.fields.get("lps_alpha").begin();
+      const double       *beta     = state.fields.get("lps_beta").begin();
+      const double       *w_bond   = constant_influence ? nullptr : omega.data();
+      const double       *w_other  = halves ? omega_other.data() : nullptr;
+      const float        *fraction = state.bonds.volume_fraction.empty() ? nullptr : state.bonds.volume_fraction.data();
+      const double       *d        = state.damage;
+      const std::uint8_t *broken   = state.broken;
+      const double       *eps_T    = state.thermal_strain; // heated only
+      const std::size_t   first    = state.bonds.offsets[i], last = state.bonds.offsets[i + 1];
+      const BondOrigin    origin(X, u, i);
+#pragma omp simd
+      for (std::size_t b = first; b < last; ++b)
+        {
+          const unsigned int j = neighbor[b];
+          double             ev[3], y[3];
+          bond_vectors<periodic>(X, u, j, origin, box, ev, y);
+          const double r0 = std::sqrt(ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2]);
+          const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+          const double e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
+          const double intact = mode == BondDamage::none       ? 1.0 :
+                                mode == BondDamage::continuous ? 1.0 - d[b] :
+                                                                 1.0 - broken[b];
+          const double wi = intact * (w_bond ? w_bond[b] : omega0);
+          const double t  = w_other ? wi * (r0 * alpha[i] + beta[i] * e) +
+                                       intact * w_other[b] * (r0 * alpha[j] + beta[j] * e) :
+                                      wi * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * e);
+          w_out[b - first] = 0.5 * t * e / (fraction && fraction[b] > 0 ? double(fraction[b]) : 1.0);
+        }
     }
 
     template <BondDamage mode>

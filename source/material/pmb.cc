@@ -142,6 +142,32 @@ namespace perideal
     }
 
     bool
+    has_bond_energy() const override
+    {
+      return true;
+    }
+
+    /// w = c s^2 |xi| / 2 (1 - d): the bond's micropotential, the work of its
+    /// force c s along its extension s |xi| (doc/models.md).
+    void
+    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
+    {
+      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+        with_flag(thermal(state), [&](auto heated) {
+          with_flag(!state.bonds.family.empty(), [&](auto halves) {
+            constexpr bool P = decltype(periodic)::value, T = decltype(heated)::value, H = decltype(halves)::value;
+            if (state.damage)
+              energy_kernel<P, T, H, BondDamage::continuous>(state, i, w);
+            else if (state.broken)
+              energy_kernel<P, T, H, BondDamage::read>(state, i, w);
+            else
+              energy_kernel<P, T, H, BondDamage::none>(state, i, w);
+          });
+        });
+      });
+    }
+
+    bool
     supports_continuous_damage() const override
     {
       return true;
@@ -299,6 +325,41 @@ namespace perideal
           state.energy ? kernel<false, mode, true, false, P, T>(state, points, c) :
                          kernel<false, mode, false, false, P, T>(state, points, c);
       });
+    }
+
+    /// bond_energies() of point @p i, as kernel() computes the stretch and c.
+    template <bool periodic, bool heated, bool halves, BondDamage mode>
+    void
+    energy_kernel(const ModelState &state, const unsigned int i, double *w) const
+    {
+      const Periodicity   box      = state.cloud.periodicity;
+      const double       *X        = state.cloud.X.data();
+      const double       *u        = state.u;
+      const unsigned int *neighbor = state.bonds.neighbor.data();
+      const double       *c        = state.fields.get("pmb_micromodulus").begin();
+      const std::uint8_t *family   = state.bonds.family.data(); // halves only
+      const double       *d        = state.damage;
+      const std::uint8_t *broken   = state.broken;
+      const double       *eps_T    = state.thermal_strain; // heated only
+      const std::size_t   first    = state.bonds.offsets[i], last = state.bonds.offsets[i + 1];
+      const BondOrigin    origin(X, u, i);
+#pragma omp simd
+      for (std::size_t b = first; b < last; ++b)
+        {
+          const unsigned int j = neighbor[b];
+          double             e[3], y[3];
+          bond_vectors<periodic>(X, u, j, origin, box, e, y);
+          const double r0  = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+          const double r   = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+          const double s   = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
+          const double cij = halves ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
+                                             (family[b] & Bonds::other_half ? c[j] : 0.0)) :
+                                      0.5 * (c[i] + c[j]);
+          const double intact = mode == BondDamage::none       ? 1.0 :
+                                mode == BondDamage::continuous ? 1.0 - d[b] :
+                                                                 1.0 - broken[b];
+          w[b - first] = intact * 0.5 * cij * s * s * r0;
+        }
     }
 
     /// halves: blocks of different horizons (Bonds::family), never with

@@ -140,15 +140,37 @@ namespace perideal
       own_law[k] = blocks[k].damage && !blocks[k].damage->stretch_criterion();
     if (std::find(own_law.begin(), own_law.end(), true) != own_law.end())
       {
-        std::pair<unsigned int, unsigned int> pair{0, 0};
-        unsigned int                          mixed = 0;
+        std::pair<unsigned int, unsigned int> pair{0, 0}, horizons{0, 0};
+        unsigned int                          mixed = 0, uneven = 0;
         for (unsigned int i = 0; i < cloud.n_owned(); ++i)
           for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
             {
               const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
               if ((own_law[bi] || own_law[bj]) && blocks[bi].damage_name != blocks[bj].damage_name)
                 mixed = 1, pair = {std::min(bi, bj), std::max(bi, bj)};
+              else if (own_law[bi] && blocks[bi].damage->horizon_dependent() &&
+                       blocks[bi].horizon != blocks[bj].horizon)
+                uneven = 1, horizons = {std::min(bi, bj), std::max(bi, bj)};
             }
+        const unsigned int uneven_code =
+          Utilities::MPI::min(uneven ? horizons.first * blocks.size() + horizons.second :
+                                       std::numeric_limits<unsigned int>::max(),
+                              comm);
+        if (uneven_code != std::numeric_limits<unsigned int>::max())
+          {
+            const Block &a = blocks[uneven_code / blocks.size()], &c = blocks[uneven_code % blocks.size()];
+            const auto   number = [](const double x) {
+              std::ostringstream out;
+              out << x;
+              return out.str();
+            };
+            AssertThrow(false,
+                        ExcMessage("blocks '" + a.name + "' and '" + c.name + "' share damage model '" +
+                                   a.damage_name + "', whose law depends on the horizon, but have different "
+                                   "horizons (" + number(a.horizon) + ", " + number(c.horizon) +
+                                   "): the two halves of a bond between them would break at different "
+                                   "energies. Give them one horizon, or separate them by more than a horizon"));
+          }
         // The same pair on every rank that names one: the smallest.
         const unsigned int code = Utilities::MPI::min(mixed ? pair.first * blocks.size() + pair.second :
                                                               std::numeric_limits<unsigned int>::max(),

@@ -5,7 +5,10 @@
 //   perideal_check globals blowup  CSV pd_app-stderr steps-asked
 //   perideal_check globals pair    CSV A T s_c K horizon [rate]
 //   perideal_check globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K (0: no energy check) [rate]
-// (rate: the critical stretch is s_c + rate t, Time dependent critical stretch.)
+//   perideal_check globals split_energy CSV nx ny nz Lx Ly Lz horizon x_split D T G_c K
+// (rate: the critical stretch is s_c + rate t, Time dependent critical stretch.
+// split_energy: Critical energy on PMB, each bond's critical stretch
+// sqrt(4 G_c / (9 K |xi|)), where c s^2 |xi| / 2 reaches 4 G_c / (pi delta^4).)
 // Prints the measured numbers with PASS/FAIL and returns non-zero on failure.
 // Serial; no MPI.
 
@@ -221,7 +224,7 @@ check_globals(int argc, char *argv[])
           check("closest approach of the stretch to s_c, relative", closest / sc, closest / sc > 1e-6,
                 "> 1e-6: the prediction does not hinge on round-off");
         }
-      else if (mode == "split")
+      else if (mode == "split" || mode == "split_energy")
         {
           // A box of nx x ny x nz cells; the points with x < x_split stay put,
           // the others are moved rigidly by d(t) = D sin(pi t / T) along x. A
@@ -232,8 +235,13 @@ check_globals(int argc, char *argv[])
           // bonds (K = 0: not checked, for the other models).
           need(12, 1);
           const unsigned int nx = a[0], ny = a[1], nz = a[2];
+          const bool         by_energy = mode == "split_energy";
           const double       Lx = a[3], Ly = a[4], Lz = a[5], delta = a[6], xs = a[7], D = a[8], T = a[9],
-                       sc = a[10], K = a[11], rate = a.size() > 12 ? a[12] : 0;
+                       K = a[11], rate = a.size() > 12 ? a[12] : 0;
+          if (by_energy && !(K > 0))
+            throw std::runtime_error("split_energy needs K > 0");
+          // By energy: the scale below takes the critical stretch of a bond of length delta.
+          const double sc = by_energy ? std::sqrt(4 * a[10] / (9 * K * delta)) : a[10];
           const double hx = Lx / nx, hy = Ly / ny, hz = Lz / nz, V = hx * hy * hz;
           const double c  = 18 * K / (M_PI * std::pow(delta, 4));
           std::vector<std::array<double, 3>> X;
@@ -275,9 +283,11 @@ check_globals(int argc, char *argv[])
                 {
                   const Bond  &e = crossing[b];
                   const double r = std::sqrt((e.ex + d) * (e.ex + d) + e.ey * e.ey + e.ez * e.ez);
-                  const double s = (r - e.r0) / e.r0;
-                  closest = std::min(closest, std::abs(s - sc_t));
-                  broken[b] |= s > sc_t;
+                  const double s    = (r - e.r0) / e.r0;
+                  const double sc_b = by_energy ? std::sqrt(4 * a[10] / (9 * K * e.r0)) : sc_t;
+                  // Relative to each bond's own limit, scaled as the printed line divides by sc.
+                  closest = std::min(closest, by_energy ? std::abs(s - sc_b) / sc_b * sc : std::abs(s - sc_t));
+                  broken[b] |= s > sc_b;
                   if (broken[b])
                     ++count, ++broken_of[e.i], ++broken_of[e.j];
                   else

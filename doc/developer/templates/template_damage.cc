@@ -11,6 +11,9 @@
 // so w_c = 4 G_c / (pi delta^4), and a bond breaks past the stretch
 //   s_c(|xi|) = sqrt(2 w_c / (c |xi|)) = sqrt(4 G_c / (9 K |xi|)):
 // long bonds break first, unlike a critical stretch (one s_c for all).
+// (The registered Critical energy model, source/damage/critical_energy.cc,
+// is the full version: it takes each bond's energy from the block's material,
+// Material::bond_energies(), so LPS's dilatation counts too.)
 //
 // Bond i->j and j->i are decided by their owners, from the positions both
 // have, so both halves break in the same evaluation. Between blocks with

@@ -108,6 +108,16 @@ namespace perideal
       return false;
     }
 
+    /// True if the law depends on the block's horizon (a critical bond
+    /// energy): two owners of a bond between blocks of different horizons
+    /// would then decide by different values, and the core refuses such
+    /// bonds.
+    virtual bool
+    horizon_dependent() const
+    {
+      return false;
+    }
+
     /// A one-line description for the set-up report.
     virtual std::string
     describe() const = 0;
@@ -188,6 +198,28 @@ namespace perideal
                       const std::vector<unsigned int> &points,
                       const double                     critical_stretch,
                       std::uint8_t                    *broken);
+
+  /// A stretch criterion (DamageModel::stretch_criterion()): a model gives
+  /// its s_c(t) (and an interface value, if it has one of its own), the core
+  /// applies it across blocks; update() is the pass of a block alone.
+  class StretchCriterion : public DamageModel
+  {
+  public:
+    std::size_t
+    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
+    {
+      return break_overstretched(state, points, critical_stretch(state.time), damage.broken);
+    }
+
+    bool
+    stretch_criterion() const final
+    {
+      return true;
+    }
+
+    double
+    critical_stretch(const double t) const override = 0;
+  };
 
   /// The damage pass of block @p k outside a material's bond loop: its own
   /// model's update() if that is not a stretch criterion (@p model may be

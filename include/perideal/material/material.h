@@ -261,6 +261,29 @@ namespace perideal
     virtual void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const = 0;
 
+    /// True if bond_energies() gives the energy of each bond (a damage
+    /// model by bond energy, Critical energy, needs it).
+    virtual bool
+    has_bond_energy() const
+    {
+      return false;
+    }
+
+    /// The energy of each bond of point @p i into w[k], k = b - offsets[i]:
+    /// the work 1/2 f . eta of the bond's pairwise force density f (both
+    /// halves, per unit volume of each end) along the relative displacement
+    /// eta (for a force along the bond, f e with e its mechanical
+    /// extension), times 1 - d. For an elastic material whose energy is
+    /// quadratic in the deformation, sum over the pairs of w beta V_i V_j
+    /// (beta: the partial volume fraction, 1 without) is the strain energy,
+    /// and w is the work the pair's force has done under
+    /// proportional loading (doc/models.md derives it per family). Reads
+    /// the stage fields as the last evaluation left them (ghosts current);
+    /// the same value on both owners of a bond.
+    virtual void
+    bond_energies(const ModelState &, const unsigned int, double *) const
+    {}
+
     /// True if the material applies state.breaking in its first bond pass
     /// (compute_stage() if it has one, else compute_force()), with the test
     /// exactly as written in StretchBreaking. The core then skips the
