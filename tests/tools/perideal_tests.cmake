@@ -91,31 +91,38 @@ function(perideal_pd_app_error_test name regex)
   endforeach()
 endfunction()
 
+# perideal_variant_prm(NAME BASE from to [from to ...]): the parameter file
+# BASE with each FROM replaced by its TO, in order, written to NAME.prm in the
+# calling folder's build directory. A FROM that is not in the text stops the
+# configuration: the variant would run the base deck unchanged.
+function(perideal_variant_prm name base)
+  file(READ ${base} text)
+  set(pairs ${ARGN})
+  list(LENGTH pairs n)
+  math(EXPR last "${n} - 2")
+  foreach(k RANGE 0 ${last} 2)
+    math(EXPR next "${k} + 1")
+    list(GET pairs ${k} from)
+    list(GET pairs ${next} to)
+    string(FIND "${text}" "${from}" at)
+    if(at EQUAL -1)
+      message(FATAL_ERROR "perideal_variant_prm(${name}): '${from}' is not in ${base}")
+    endif()
+    string(REPLACE "${from}" "${to}" text "${text}")
+  endforeach()
+  file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/${name}.prm "${text}")
+endfunction()
+
 # perideal_variant_error_test(NAME BASE REGEX re [NP n...] REPLACE from to
-#                             [from to ...]): the parameter file BASE with
-# each FROM replaced by its TO, in order, written to NAME.prm in the calling
-# folder's build directory; pd_app on it must fail with a message matching
-# "Error: re", on each rank count given (default 1). A FROM that is not in the
-# text stops the configuration: the variant would run the base deck unchanged.
+#                             [from to ...]): perideal_variant_prm(NAME BASE
+# ...); pd_app on it must fail with a message matching "Error: re", on each
+# rank count given (default 1).
 function(perideal_variant_error_test name base)
   cmake_parse_arguments(V "" "REGEX" "NP;REPLACE" ${ARGN})
   if(NOT V_NP)
     set(V_NP 1)
   endif()
-  file(READ ${base} text)
-  list(LENGTH V_REPLACE n)
-  math(EXPR last "${n} - 2")
-  foreach(k RANGE 0 ${last} 2)
-    math(EXPR next "${k} + 1")
-    list(GET V_REPLACE ${k} from)
-    list(GET V_REPLACE ${next} to)
-    string(FIND "${text}" "${from}" at)
-    if(at EQUAL -1)
-      message(FATAL_ERROR "perideal_variant_error_test(${name}): '${from}' is not in ${base}")
-    endif()
-    string(REPLACE "${from}" "${to}" text "${text}")
-  endforeach()
-  file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/${name}.prm "${text}")
+  perideal_variant_prm(${name} ${base} ${V_REPLACE})
   foreach(np ${V_NP})
     perideal_pd_app_command(run ${np})
     perideal_error_test(${name} ${np} REGEX "Error: ${V_REGEX}" COMMAND ${run} ${CMAKE_CURRENT_BINARY_DIR}/${name}.prm)
