@@ -5,6 +5,8 @@
 #include <perideal/continuum/continuum_field.h>
 #include <perideal/model/force_model.h>
 
+#include <cmath>
+
 namespace perideal
 {
   using namespace dealii;
@@ -129,6 +131,62 @@ namespace perideal
     }
   };
 
+  /// How far a crack has run past an origin along a direction: at a point
+  /// whose damage has reached the threshold, (X - origin) . direction; 0
+  /// elsewhere, so that Maximum over a region is 0 until the crack enters it.
+  /// Damage never heals, so with reference positions the tip never retreats.
+  class CrackTip : public PointQuantity
+  {
+  public:
+    static void
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Crack direction", "1,0,0", Patterns::List(Patterns::Double(), 3, 3),
+                        "Variable = Crack tip only: the direction the crack runs in (normalised).");
+      prm.declare_entry("Crack origin", "0,0,0", Patterns::List(Patterns::Double(), 3, 3),
+                        "Variable = Crack tip only: where the crack length is measured from, e.g. the notch "
+                        "tip.");
+      prm.declare_entry("Crack damage threshold", "0.3", Patterns::Double(),
+                        "Variable = Crack tip only: a point is on the crack once its damage reaches this, in "
+                        "(0, 1]. The points along a crack's faces lose a third to a half of their bonds; 0.3 "
+                        "marks the tip where they have lost most of that.");
+    }
+
+    void
+    parse_parameters(ParameterHandler &prm, const std::string &path) override
+    {
+      direction = get_point(prm, "Crack direction");
+      origin    = get_point(prm, "Crack origin");
+      threshold = prm.get_double("Crack damage threshold");
+      AssertThrow(direction.norm() > 0 && std::isfinite(direction.norm()),
+                  ExcMessage(path + "/Crack direction: give a direction, e.g. 1,0,0; got " +
+                             prm.get("Crack direction")));
+      direction /= direction.norm();
+      AssertThrow(threshold > 0 && threshold <= 1,
+                  ExcMessage(path + "/Crack damage threshold must be in (0, 1], got " +
+                             prm.get("Crack damage threshold")));
+      AssertThrow(prm.get("Operation") == "Maximum",
+                  ExcMessage(path + "/Operation: Variable = Crack tip is 0 at the points the crack has not "
+                             "reached, so only Maximum gives the crack's length (got " + prm.get("Operation") +
+                             ")"));
+    }
+
+    double
+    value(const ComputeData &data, const unsigned int i) const override
+    {
+      if (data.model.point_damage(i) < threshold)
+        return 0;
+      double s = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        s += (data.cloud.X[dim * i + d] - origin[d]) * direction[d];
+      return s;
+    }
+
+  private:
+    Point<dim> direction, origin;
+    double     threshold = 0.3;
+  };
+
   class BondStretch : public PointQuantity
   {
   public:
@@ -209,6 +267,10 @@ namespace perideal
   PERIDEAL_REGISTER(PointQuantity, PositionY, "Position y", doc_position)
   PERIDEAL_REGISTER(PointQuantity, PositionZ, "Position z", doc_position)
   PERIDEAL_REGISTER(PointQuantity, Damage, "Damage", "point damage.")
+  PERIDEAL_REGISTER(PointQuantity, CrackTip, "Crack tip",
+                    "with Operation = Maximum, how far the crack has run from Crack origin along Crack "
+                    "direction: the farthest point (reference position) whose damage has reached Crack damage "
+                    "threshold, 0 until one has; with Rate, the crack speed (doc/models.md, Crack tip).")
   PERIDEAL_REGISTER(PointQuantity, BondStretch, "Bond stretch",
                     "the largest stretch (|y| - |xi|)/|xi| of a point's intact bonds (with Maximum: how close "
                     "the region is to a critical stretch).")

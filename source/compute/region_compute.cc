@@ -2,6 +2,8 @@
 
 #include <perideal/continuum/continuum_field.h>
 
+#include <perideal/base/registry.h>
+
 #include <cmath>
 
 namespace perideal
@@ -26,6 +28,17 @@ namespace perideal
                       "If set, the compute takes |q - reference| instead of q: the error against an "
                       "analytic solution, e.g. Variable = Displacement x, Reference = 1e-3*x, Operation "
                       "= Maximum for the largest error of a patch test.");
+    prm.declare_entry("Rate", "false", Patterns::Bool(),
+                      "Also write the column NAME_rate: how fast the compute's value changes, per unit time "
+                      "(with Variable = Crack tip and Operation = Maximum: the crack speed). It is 0 at the "
+                      "first globals row.");
+    prm.declare_entry("Rate window", "0", Patterns::Double(0),
+                      "0: the rate between this globals row and the one before. A time T > 0: the "
+                      "least-squares slope of the value over the globals rows of the last T, this one "
+                      "included, which smooths a value that moves in steps (a crack tip advances from point "
+                      "to point).");
+    for (const auto &[name, entry] : Registry<PointQuantity>::instance().all())
+      entry.declare(prm);
   }
 
   void
@@ -37,8 +50,42 @@ namespace perideal
     reference.reset();
     if (!prm.get("Reference").empty())
       reference = std::make_shared<Expression>(prm.get("Reference"), path + "/Reference");
+    rate        = prm.get_bool("Rate");
+    rate_window = prm.get_double("Rate window");
+    history.clear();
     quantity  = Registry<PointQuantity>::instance().create(variable, path + "/Variable");
+    quantity->parse_parameters(prm, path);
     reduction = Registry<Reduction>::instance().create(operation, path + "/Operation");
+  }
+
+  double
+  RegionCompute::rate_of(const double value, const double time)
+  {
+    // The globals of one time taken again (the initial row, a summary's)
+    // replace the earlier.
+    if (!history.empty() && history.back().first == time)
+      history.pop_back();
+    // Rows older than the window go, but the row before this one always
+    // stays: a window shorter than the rows' spacing is the two-row slope.
+    while (history.size() > 1 && history.front().first < time - rate_window * (1 + 1e-9))
+      history.pop_front();
+    history.emplace_back(time, value);
+    const std::size_t n = history.size();
+    if (n < 2)
+      return 0;
+    double mean_t = 0, mean_q = 0;
+    for (const auto &[t, q] : history)
+      {
+        mean_t += t / n;
+        mean_q += q / n;
+      }
+    double stt = 0, stq = 0;
+    for (const auto &[t, q] : history)
+      {
+        stt += (t - mean_t) * (t - mean_t);
+        stq += (t - mean_t) * (q - mean_q);
+      }
+    return stt > 0 ? stq / stt : 0;
   }
 
   double

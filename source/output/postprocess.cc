@@ -153,8 +153,13 @@ namespace perideal
         row.emplace_back("material_dissipation", record.material_dissipation);
       }
     const ComputeData data = compute_data();
-    for (const auto &compute : computes)
-      row.emplace_back(compute.name, compute.evaluate(data, time, comm));
+    for (auto &compute : computes)
+      {
+        const double value = compute.evaluate(data, time, comm);
+        row.emplace_back(compute.name, value);
+        if (compute.rate)
+          row.emplace_back(compute.name + "_rate", compute.rate_of(value, time));
+      }
     {
       // A Reference that is NaN somewhere would write nan in every row.
       std::vector<const Expression *> references;

@@ -6,6 +6,7 @@
 //   perideal_check globals pair    CSV A T s_c K horizon [rate]
 //   perideal_check globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K (0: no energy check) [rate]
 //   perideal_check globals split_energy CSV nx ny nz Lx Ly Lz horizon x_split D T G_c K
+//   perideal_check globals crack_tip CSV nx ny nz Lx Ly Lz horizon v eps s_c threshold window
 // (rate: the critical stretch is s_c + rate t, Time dependent critical stretch.
 // split_energy: Critical energy on PMB, each bond's critical stretch
 // sqrt(4 G_c / (9 K |xi|)), where c s^2 |xi| / 2 reaches 4 G_c / (pi delta^4).)
@@ -318,6 +319,103 @@ check_globals(int argc, char *argv[])
           check("broken bonds at the end", rows.back().broken,
                 rows.back().broken == max_count && max_count > 0 && max_count < crossing.size(),
                 "== predicted, some but not all crossing bonds");
+        }
+      else if (mode == "crack_tip")
+        {
+          // A box of nx x ny x nz cells; at the time t of a row every point
+          // with x < v t has the displacement (0, eps y, 0), the others none.
+          // A bond breaks for good at the first row (every step is one) where
+          // its stretch passes s_c; point damage is the broken share of its
+          // family (uniform volumes). The columns tip and tip_step (Crack tip,
+          // direction +x from the origin) must be the farthest x of a point
+          // with damage >= threshold (0 without one), and their rates the
+          // least-squares slope of those predictions over the rows of the
+          // last `window` time (tip_rate) and over the last two rows
+          // (tip_step_rate).
+          need(12);
+          const unsigned int nx = a[0], ny = a[1], nz = a[2];
+          const double       Lx = a[3], Ly = a[4], Lz = a[5], delta = a[6], v = a[7], eps = a[8], sc = a[9],
+                       threshold = a[10], window = a[11];
+          const double hx = Lx / nx, hy = Ly / ny, hz = Lz / nz;
+          std::vector<std::array<double, 3>> X;
+          for (unsigned int k = 0; k < nz; ++k)
+            for (unsigned int j = 0; j < ny; ++j)
+              for (unsigned int i = 0; i < nx; ++i)
+                X.push_back({{(i + 0.5) * hx, (j + 0.5) * hy, (k + 0.5) * hz}});
+          std::vector<std::array<unsigned int, 2>> bonds;
+          std::vector<unsigned int>                family(X.size(), 0);
+          for (unsigned int i = 0; i < X.size(); ++i)
+            for (unsigned int j = i + 1; j < X.size(); ++j)
+              {
+                double r2 = 0;
+                for (unsigned int d = 0; d < 3; ++d)
+                  r2 += (X[j][d] - X[i][d]) * (X[j][d] - X[i][d]);
+                if (std::sqrt(r2) <= delta * (1 + 1e-9))
+                  bonds.push_back({{i, j}}), ++family[i], ++family[j];
+              }
+          const auto table = check_common::read_rows(argv[2]);
+          std::vector<char>   broken(bonds.size(), 0);
+          std::vector<double> times, tips;
+          double              closest = 1e300, worst_tip = 0, worst_rate = 0, worst_step_rate = 0;
+          for (const auto &row : table)
+            {
+              const double t = row.at("time");
+              std::vector<unsigned int> broken_of(X.size(), 0);
+              for (unsigned int b = 0; b < bonds.size(); ++b)
+                {
+                  const auto  &X0 = X[bonds[b][0]], &X1 = X[bonds[b][1]];
+                  const double u0 = X0[0] < v * t ? eps * X0[1] : 0, u1 = X1[0] < v * t ? eps * X1[1] : 0;
+                  double       r0 = 0, r = 0;
+                  for (unsigned int d = 0; d < 3; ++d)
+                    {
+                      const double xi = X1[d] - X0[d], y = xi + (d == 1 ? u1 - u0 : 0);
+                      r0 += xi * xi;
+                      r += y * y;
+                    }
+                  const double s = std::sqrt(r / r0) - 1;
+                  closest        = std::min(closest, std::abs(s - sc));
+                  broken[b] |= s > sc;
+                  if (broken[b])
+                    ++broken_of[bonds[b][0]], ++broken_of[bonds[b][1]];
+                }
+              double tip = 0;
+              for (unsigned int p = 0; p < X.size(); ++p)
+                if (double(broken_of[p]) / family[p] >= threshold)
+                  tip = std::max(tip, X[p][0]);
+              times.push_back(t);
+              tips.push_back(tip);
+              // The least-squares slope over the rows from time `from` on (at least the last two).
+              const auto slope = [&](const double from) {
+                std::size_t first = times.size() - 1;
+                while (first > 0 && (times[first - 1] >= from - 1e-9 * window || first + 1 == times.size()))
+                  --first;
+                const double n  = times.size() - first;
+                double       mt = 0, mq = 0, stt = 0, stq = 0;
+                for (std::size_t k = first; k < times.size(); ++k)
+                  mt += times[k] / n, mq += tips[k] / n;
+                for (std::size_t k = first; k < times.size(); ++k)
+                  stt += (times[k] - mt) * (times[k] - mt), stq += (times[k] - mt) * (tips[k] - mq);
+                return stt > 0 ? stq / stt : 0.0;
+              };
+              worst_tip = std::max({worst_tip, std::abs(row.at("tip") - tip), std::abs(row.at("tip_step") - tip)});
+              worst_rate = std::max(worst_rate, std::abs(row.at("tip_rate") - slope(t - window)));
+              worst_step_rate = std::max(worst_step_rate, std::abs(row.at("tip_step_rate") - slope(t)));
+            }
+          const double t_end = times.back(), tip_end = tips.back();
+          std::cout << bonds.size() << " bonds; predicted tip at t = " << t_end << ": " << tip_end
+                    << " (v t = " << v * t_end << ")\n";
+          check("closest approach of a bond stretch to s_c", closest, closest > 1e-6 * sc,
+                "> 1e-6 s_c: the prediction does not hinge on round-off");
+          check("max |tip - prediction| (tip, tip_step)", worst_tip, worst_tip < 1e-9, "< 1e-9");
+          check("max |tip_rate - least-squares slope over the window|", worst_rate, worst_rate < 1e-6 * v,
+                "< 1e-6 v");
+          check("max |tip_step_rate - slope of the last two rows|", worst_step_rate, worst_step_rate < 1e-6 * v,
+                "< 1e-6 v");
+          // The tip runs with the opening, a fixed distance ahead of or behind it.
+          check("tip at the end - v t", tip_end - v * t_end, std::abs(tip_end - v * t_end) < delta,
+                "within one horizon");
+          check("last tip_rate / v", table.back().at("tip_rate") / v,
+                std::abs(table.back().at("tip_rate") / v - 1) < 0.1, "within 10%");
         }
       else
         throw std::runtime_error("unknown mode " + mode);

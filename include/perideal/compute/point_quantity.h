@@ -11,6 +11,7 @@
 #include <perideal/model/state.h>
 #include <perideal/neighborhood/bonds.h>
 
+#include <string>
 #include <vector>
 
 namespace perideal
@@ -37,12 +38,18 @@ namespace perideal
   class PointQuantity
   {
   public:
-    /// A quantity has no keys of its own.
+    /// Most quantities have no keys of their own. Those that do (Crack tip)
+    /// declare them in every compute's section, documented as theirs.
     static void
     declare_parameters(ParameterHandler &)
     {}
 
     virtual ~PointQuantity() = default;
+
+    /// Reads the quantity's own keys of the compute's section @p path.
+    virtual void
+    parse_parameters(ParameterHandler &, const std::string & /*path*/)
+    {}
 
     /// The value at owned point @p i.
     virtual double
