@@ -84,6 +84,7 @@ namespace perideal
                                  {"corr_PKinv", FieldUse::stage, 9},
                                  {"corr_F", FieldUse::stage, 9, "Deformation gradient"},
                                  {"corr_cauchy", FieldUse::local, 9, "Cauchy stress"},
+                                 {"corr_von_mises", FieldUse::stage, 1, "Von Mises stress"},
                                  {"corr_energy", FieldUse::local, 1}};
     if (stabilization != 0)
       f.push_back({"corr_live", FieldUse::stage, 1});

@@ -45,6 +45,7 @@
 
 #include <perideal/material/material.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,16 @@ namespace perideal
     {
       return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
              A[2] * (A[3] * A[7] - A[4] * A[6]);
+    }
+
+    /// The von Mises stress sqrt(3 J2) of a Cauchy stress (row-major 3x3;
+    /// its symmetric part).
+    inline double
+    von_mises(const double *s)
+    {
+      const double a = s[0] - s[4], b = s[4] - s[8], c = s[8] - s[0];
+      const double xy = 0.5 * (s[1] + s[3]), yz = 0.5 * (s[5] + s[7]), xz = 0.5 * (s[2] + s[6]);
+      return std::sqrt(0.5 * (a * a + b * b + c * c) + 3 * (xy * xy + yz * yz + xz * xz));
     }
 
     /// Polar decomposition F = R U (row-major 3x3, det F > 0) from the
@@ -211,7 +222,9 @@ namespace perideal
     /// law(i, F, theta, P, sigma, W) with theta = 1 + alpha dT_i, which
     /// writes the first Piola-Kirchhoff stress P (row-major), the Cauchy
     /// stress sigma (corr_cauchy of i) and the energy density W; then
-    /// P K_i^-1 into corr_PKinv. A point whose damaged family does not span
+    /// P K_i^-1 into corr_PKinv and sigma's von Mises stress into
+    /// corr_von_mises (a stage field: ghosted, so that both owners of a bond
+    /// see both ends' values, for the Von Mises stress damage model). A point whose damaged family does not span
     /// space gets F = I and no stress, and degenerate(i) is called instead.
     template <typename Law, typename Degenerate>
     void
@@ -260,6 +273,7 @@ namespace perideal
       double       *Fs    = state.fields.get("corr_F").begin();
       double       *PK    = state.fields.get("corr_PKinv").begin();
       double       *sigma = state.fields.get("corr_cauchy").begin();
+      double       *vm    = state.fields.get("corr_von_mises").begin();
       double       *Wf    = state.fields.get("corr_energy").begin();
       double       *live  = stabilization != 0 ? state.fields.get("corr_live").begin() : nullptr;
       const double *eps_T = state.thermal_strain; // alpha dT per point, or nullptr
@@ -300,6 +314,7 @@ namespace perideal
                       PK[9 * i + k]    = 0;
                       sigma[9 * i + k] = 0;
                     }
+                  vm[i] = 0;
                   Wf[i] = 0;
                   if (live)
                     live[i] = 0;
@@ -312,6 +327,7 @@ namespace perideal
           multiply(N, Kinv, F);
           double P[9];
           law(i, static_cast<const double *>(F), eps_T ? 1 + eps_T[i] : 1.0, P, sigma + 9 * i, Wf[i]);
+          vm[i] = von_mises(sigma + 9 * i);
           multiply(P, Kinv, PK + 9 * i);
           if (live)
             live[i] = 1;
