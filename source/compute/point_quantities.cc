@@ -187,6 +187,19 @@ namespace perideal
     double     threshold = 0.3;
   };
 
+  /// The von Mises stress of a correspondence material's point (its stage
+  /// field); 0 at the points of materials without a stress tensor.
+  class VonMisesStressQuantity : public PointQuantity
+  {
+  public:
+    double
+    value(const ComputeData &data, const unsigned int i) const override
+    {
+      const VectorType *values = data.model.field("corr_von_mises");
+      return values ? values->local_element(i) : 0.0;
+    }
+  };
+
   class BondStretch : public PointQuantity
   {
   public:
@@ -271,6 +284,9 @@ namespace perideal
                     "with Operation = Maximum, how far the crack has run from Crack origin along Crack "
                     "direction: the farthest point (reference position) whose damage has reached Crack damage "
                     "threshold, 0 until one has; with Rate, the crack speed (doc/models.md, Crack tip).")
+  PERIDEAL_REGISTER(PointQuantity, VonMisesStressQuantity, "Von Mises stress",
+                    "of a point of a correspondence material, sqrt(3 J2) of its Cauchy stress (0 at the points of "
+                    "other materials); with Maximum: where a Von Mises stress damage model stands.")
   PERIDEAL_REGISTER(PointQuantity, BondStretch, "Bond stretch",
                     "the largest stretch (|y| - |xi|)/|xi| of a point's intact bonds (with Maximum: how close "
                     "the region is to a critical stretch).")

@@ -24,6 +24,11 @@ namespace perideal
 {
   using namespace dealii;
 
+  // Local to this file: a plugin class whose name another file also uses
+  // (the compute quantity "Von Mises stress") would be one class to the
+  // linker, with one of the two vtables for both.
+  namespace
+  {
   class VonMisesStress : public DamageModel
   {
   public:
@@ -108,6 +113,7 @@ namespace perideal
     std::string path;
     double      critical = 0, onset = 0.99, full = 1;
   };
+  } // namespace
 
   PERIDEAL_REGISTER(DamageModel, VonMisesStress, "Von Mises stress",
                     "Peridigm's Von Mises Stress damage, for the correspondence materials: a bond's damage rises "

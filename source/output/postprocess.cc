@@ -152,6 +152,11 @@ namespace perideal
           Utilities::MPI::sum(model.field_store().dissipated_energy(cloud.volume, n), comm);
         row.emplace_back("material_dissipation", record.material_dissipation);
       }
+    // With Solver/Track dissipated energy: the energy bond damage has
+    // released so far (the summary's "dissipated energy"), so that a row's
+    // energies balance without the summary.
+    if (deck.solver.track_dissipation && !model.broken.empty())
+      row.emplace_back("released_energy", record.dissipated_energy);
     const ComputeData data = compute_data();
     for (auto &compute : computes)
       {
