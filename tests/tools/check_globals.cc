@@ -77,6 +77,20 @@ namespace
     return check_common::str(v, 6);
   }
 
+  /// The points of a Box discretization from the origin: the centres of its
+  /// nx x ny x nz cells of hx x hy x hz, x fastest.
+  std::vector<std::array<double, 3>>
+  cell_centres(const unsigned int nx, const unsigned int ny, const unsigned int nz, const double hx, const double hy,
+               const double hz)
+  {
+    std::vector<std::array<double, 3>> X;
+    for (unsigned int k = 0; k < nz; ++k)
+      for (unsigned int j = 0; j < ny; ++j)
+        for (unsigned int i = 0; i < nx; ++i)
+          X.push_back({{(i + 0.5) * hx, (j + 0.5) * hy, (k + 0.5) * hz}});
+    return X;
+  }
+
   double
   total(const Row &r)
   {
@@ -245,11 +259,7 @@ check_globals(int argc, char *argv[])
           const double sc = by_energy ? std::sqrt(4 * a[10] / (9 * K * delta)) : a[10];
           const double hx = Lx / nx, hy = Ly / ny, hz = Lz / nz, V = hx * hy * hz;
           const double c  = 18 * K / (M_PI * std::pow(delta, 4));
-          std::vector<std::array<double, 3>> X;
-          for (unsigned int k = 0; k < nz; ++k)
-            for (unsigned int j = 0; j < ny; ++j)
-              for (unsigned int i = 0; i < nx; ++i)
-                X.push_back({{(i + 0.5) * hx, (j + 0.5) * hy, (k + 0.5) * hz}});
+          const auto X = cell_centres(nx, ny, nz, hx, hy, hz);
           struct Bond
           {
             unsigned int i, j;
@@ -337,11 +347,7 @@ check_globals(int argc, char *argv[])
           const double       Lx = a[3], Ly = a[4], Lz = a[5], delta = a[6], v = a[7], eps = a[8], sc = a[9],
                        threshold = a[10], window = a[11];
           const double hx = Lx / nx, hy = Ly / ny, hz = Lz / nz;
-          std::vector<std::array<double, 3>> X;
-          for (unsigned int k = 0; k < nz; ++k)
-            for (unsigned int j = 0; j < ny; ++j)
-              for (unsigned int i = 0; i < nx; ++i)
-                X.push_back({{(i + 0.5) * hx, (j + 0.5) * hy, (k + 0.5) * hz}});
+          const auto X = cell_centres(nx, ny, nz, hx, hy, hz);
           std::vector<std::array<unsigned int, 2>> bonds;
           std::vector<unsigned int>                family(X.size(), 0);
           for (unsigned int i = 0; i < X.size(); ++i)

@@ -115,6 +115,19 @@ def measure(run):
                 npoints=summary(log, "points").split(" ")[0])
 
 
+def draw_top_view(ax, points):
+    """The damage seen from above: the largest through the thickness, one
+    pixel per point of the plate's grid (spacing from the points' x)."""
+    xs = sorted({round(p[0] * 1e6) for p in points})
+    h = (xs[-1] - xs[0]) / (len(xs) - 1) * 1e-6
+    nx, ny = round(0.1 / h), round(0.2 / h)
+    image = [[0.0] * nx for _ in range(ny)]
+    for x, y, z, d in points:
+        i, j = min(nx - 1, int(x / h)), min(ny - 1, int((y + 0.1) / h))
+        image[j][i] = max(image[j][i], d)
+    ax.imshow(image, origin="lower", extent=(0, 100, -100, 100), cmap="jet", vmin=0, vmax=1, interpolation="nearest")
+
+
 def picture(results, out):
     try:
         import matplotlib
@@ -129,17 +142,7 @@ def picture(results, out):
         return
     fig, axes = plt.subplots(1, len(names), figsize=(3.4 * len(names), 5.9), squeeze=False)
     for ax, name in zip(axes[0], names):
-        # Top view: the largest damage through the thickness, one pixel per point.
-        pts = results[name]["points"]
-        xs = sorted({round(p[0] * 1e6) for p in pts})
-        h = (xs[-1] - xs[0]) / (len(xs) - 1) * 1e-6
-        nx, ny = round(0.1 / h), round(0.2 / h)
-        image = [[0.0] * nx for _ in range(ny)]
-        for x, y, z, d in pts:
-            i, j = min(nx - 1, int(x / h)), min(ny - 1, int((y + 0.1) / h))
-            image[j][i] = max(image[j][i], d)
-        ax.imshow(image, origin="lower", extent=(0, 100, -100, 100), cmap="jet", vmin=0, vmax=1,
-                  interpolation="nearest")
+        draw_top_view(ax, results[name]["points"])
         for sign in (1, -1):
             ax.plot([0, 50], [sign * 25, sign * 25], "k-", lw=1.5)
             a = math.radians(70)
@@ -171,16 +174,7 @@ def sequence(run, out):
     steps = [f for k, f in enumerate(steps) if k + 1 == len(steps) or t[k + 1] - t[k] > 0.1 * (t[1] - t[0])]
     fig, axes = plt.subplots(1, len(steps), figsize=(2.4 * len(steps), 4.6), squeeze=False)
     for ax, f in zip(axes[0], steps):
-        pts = read_points(f)
-        xs = sorted({round(p[0] * 1e6) for p in pts})
-        h = (xs[-1] - xs[0]) / (len(xs) - 1) * 1e-6
-        nx, ny = round(0.1 / h), round(0.2 / h)
-        image = [[0.0] * nx for _ in range(ny)]
-        for x, y, z, d in pts:
-            i, j = min(nx - 1, int(x / h)), min(ny - 1, int((y + 0.1) / h))
-            image[j][i] = max(image[j][i], d)
-        ax.imshow(image, origin="lower", extent=(0, 100, -100, 100), cmap="jet", vmin=0, vmax=1,
-                  interpolation="nearest")
+        draw_top_view(ax, read_points(f))
         ax.set_title("%.0f µs" % (times.get(os.path.basename(f), float("nan")) * 1e6), fontsize=10)
         ax.set_xticks([0, 50, 100])
     fig.tight_layout()
