@@ -16,13 +16,22 @@
 //   LPS  w = (t_ij + t_ji) e / 2, the scalar force state of both halves times the
 //        extension: the dilatation of both ends counts, so a bond in a point under
 //        hydrostatic tension stores more than the same stretch in shear.
-// Summed over the pairs (w V_i V_j), w is the strain energy exactly for both,
-// so a fully split specimen releases its stored energy and G_c per area.
+//   Elastic plastic, Viscoelastic: w = int (t_ij + t_ji) de, the work the pair
+//        force has done along the bond's extension so far (ordinary_state.h:
+//        per-bond history, trapezoid rule per step), stored and dissipated:
+//        plastic flow or a dashpot that takes energy brings the bond nearer
+//        to breaking, as in Foster et al.'s work-based criterion.
+// Summed over the pairs (w V_i V_j), w is the strain energy exactly for PMB
+// and LPS, and the stored energy plus the dissipation (to the trapezoid rule's
+// error) for the inelastic two, so a fully split specimen releases what the
+// bonds across it took and G_c per area. The correspondence models have no
+// pair force along the bond and are refused.
 // The stage fields (LPS's dilatation terms) are those of the evaluation
 // before (the damage pass runs first, ForceModel::compute_forces()): both
 // owners of a bond read the same values, ghosts included, so both halves
 // break in the same evaluation; the lag is one step of an explicit run, none
-// after an implicit step's converged solve (break_bonds()).
+// after an implicit step's converged solve (break_bonds()). The bond work of
+// the inelastic models is the last evaluation's likewise.
 // Compression breaks nothing. The critical energy depends on the horizon,
 // so blocks of different horizons may not share bonds under it (the core
 // refuses them, horizon_dependent()).
@@ -45,7 +54,8 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Critical energy release rate", "0", Patterns::Double(),
-                        "G_c > 0: a stretched bond breaks when its energy exceeds w_c = 4 G_c / (pi horizon^4).");
+                        "G_c > 0: a stretched bond breaks when its energy (for Elastic plastic and Viscoelastic: "
+                        "the work done on it, stored and dissipated) exceeds w_c = 4 G_c / (pi horizon^4).");
     }
 
     void
@@ -57,13 +67,19 @@ namespace perideal
                                                prm.get("Critical energy release rate")));
     }
 
+    bool
+    uses_bond_energy() const override
+    {
+      return true;
+    }
+
     void
     initialize(const Material &material_, const double horizon) override
     {
       AssertThrow(material_.has_bond_energy(),
                   ExcMessage(path + ": Critical energy breaks a bond by its energy, which this block's material "
-                                    "does not define (PMB and LPS do; the plastic, viscoelastic and "
-                                    "correspondence models do not yet)"));
+                                    "does not define (PMB, LPS, Elastic plastic and Viscoelastic do; the "
+                                    "correspondence models, whose bond forces are not along the bond, do not)"));
       material        = &material_;
       critical_energy = 4 * release_rate / (M_PI * std::pow(horizon, 4));
     }
@@ -148,6 +164,8 @@ namespace perideal
 
   PERIDEAL_REGISTER(DamageModel, CriticalEnergy, "Critical energy",
                     "A stretched bond breaks when its energy (the work of its pairwise force along its extension, "
-                    "the material's) exceeds w_c = 4 G_c / (pi horizon^4) (Foster et al. 2011). PMB and LPS; "
-                    "a block with it bonds only to blocks with the same damage model and horizon.")
+                    "the material's; for Elastic plastic and Viscoelastic the work done on it so far, stored and "
+                    "dissipated) exceeds w_c = 4 G_c / (pi horizon^4) (Foster et al. 2011). PMB, LPS, Elastic "
+                    "plastic, Viscoelastic; a block with it bonds only to blocks with the same damage model and "
+                    "horizon.")
 } // namespace perideal

@@ -31,7 +31,8 @@
 // Thermal strain: e = |y| - |xi| - (eps_T,i + eps_T,j)/2 |xi| (ordinary_state.h).
 // Bond damage: binary (state.broken; a broken bond keeps its e^dp), a
 // critical stretch applied in stage()'s first bond pass
-// (fuses_stretch_criterion()); no continuous damage. Blocks of different horizons are refused. Tangent: the
+// (fuses_stretch_criterion()); no continuous damage. Critical energy: the
+// bond work of ordinary_state.h (stored and dissipated). Blocks of different horizons are refused. Tangent: the
 // consistent tangent of the radial return (add_tangent()), so Newton converges
 // quadratically through yield.
 
@@ -116,7 +117,29 @@ namespace perideal
     bond_fields() const override
     {
       // Rewritten whole at every evaluation (force()): commit() swaps N and NP1.
-      return {{"eps_edp", true}, {"eps_edp_other", true}};
+      std::vector<BondField> fields = {{"eps_edp", true}, {"eps_edp_other", true}};
+      if (work)
+        for (const BondField &f : family.work_fields())
+          fields.push_back(f);
+      return fields;
+    }
+
+    void
+    request_bond_energy() override
+    {
+      work = true;
+    }
+
+    bool
+    has_bond_energy() const override
+    {
+      return work;
+    }
+
+    void
+    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
+    {
+      family.work_energies(state, i, w);
     }
 
     void
@@ -138,12 +161,14 @@ namespace perideal
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
       variants(state, [&](auto W, auto P, auto D, auto T) {
-        constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
-                       t = decltype(T)::value;
-        if (state.energy)
-          force<w, p, d, t, true>(state, points);
-        else
-          force<w, p, d, t, false>(state, points);
+        with_flag(work, [&](auto B) {
+          constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
+                         t = decltype(T)::value, b = decltype(B)::value;
+          if (state.energy)
+            force<w, p, d, t, true, b>(state, points);
+          else
+            force<w, p, d, t, false, b>(state, points);
+        });
       });
     }
 
@@ -214,6 +239,7 @@ namespace perideal
 
   private:
     double              rho = 0, K = 0, G = 0, Y0 = 0, H = 0, alpha_T = 0;
+    bool                work = false; // keep each bond's work (request_bond_energy())
     std::string         material_path;
     const OrdinaryState family{"eps_"};
 
@@ -285,10 +311,11 @@ namespace perideal
         state.breaking->newly_broken += newly_broken;
     }
 
-    template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy>
+    template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy, bool bond_work>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const
     {
+      const auto work_update = bond_work ? OrdinaryState::WorkUpdate(state, family) : OrdinaryState::WorkUpdate();
       const double       *V         = state.cloud.volume.data();
       const std::size_t  *offsets   = state.bonds.offsets.data();
       const unsigned int *neighbor  = state.bonds.neighbor.data();
@@ -321,6 +348,12 @@ namespace perideal
               other[b]          = pj;
               const double w    = OrdinaryState::weight<weighted, damaged>(state, b);
               const double t    = w * (r0 * (ki + kappa[j] * theta[j]) + ai * (edi - pi) + alpha[j] * (edj - pj));
+              // t again, with the two ends' terms added alike on both owners.
+              if constexpr (bond_work)
+                work_update.add(b,
+                                w * (r0 * OrdinaryState::symmetric_sum(ki, kappa[j] * theta[j]) +
+                                     OrdinaryState::symmetric_sum(ai * (edi - pi), alpha[j] * (edj - pj))),
+                                e);
               const double k    = t * V[j] / r;
               fx += k * y[0];
               fy += k * y[1];

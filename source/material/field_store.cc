@@ -127,6 +127,12 @@ namespace perideal
     return it->second.old.data();
   }
 
+  const double *
+  FieldStore::bond_latest(const std::string &name) const
+  {
+    return bonds_written ? bond_fields.at(name).now.data() : bond_old(name);
+  }
+
   unsigned int
   FieldStore::components(const std::string &name) const
   {

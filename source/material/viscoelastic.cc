@@ -25,7 +25,8 @@
 // from j's ghosted dilatation, so both copies agree bit for bit.
 // Thermal strain: e = |y| - |xi| - (eps_T,i + eps_T,j)/2 |xi| (ordinary_state.h).
 // Bond damage: binary (state.broken); a critical stretch runs in stage()'s
-// first bond pass (fuses_stretch_criterion()). Blocks of different horizons are
+// first bond pass (fuses_stretch_criterion()). Critical energy: the bond work
+// of ordinary_state.h (stored and dissipated by the dashpots). Blocks of different horizons are
 // refused. Tangent: analytic (add_tangent(); LPS's with the step's relaxed
 // deviatoric modulus), so Newton converges quadratically.
 
@@ -107,7 +108,29 @@ namespace perideal
     {
       // e^d and e^b of the bond's own half, and replicas of the other end's; rewritten
       // whole at every evaluation (force()): commit() swaps N and NP1.
-      return {{"ves_ed", true}, {"ves_eb", true}, {"ves_ed_other", true}, {"ves_eb_other", true}};
+      std::vector<BondField> fields = {{"ves_ed", true}, {"ves_eb", true}, {"ves_ed_other", true}, {"ves_eb_other", true}};
+      if (work)
+        for (const BondField &f : family.work_fields())
+          fields.push_back(f);
+      return fields;
+    }
+
+    void
+    request_bond_energy() override
+    {
+      work = true;
+    }
+
+    bool
+    has_bond_energy() const override
+    {
+      return work;
+    }
+
+    void
+    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
+    {
+      family.work_energies(state, i, w);
     }
 
     void
@@ -129,12 +152,14 @@ namespace perideal
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
       variants(state, [&](auto W, auto P, auto D, auto T) {
-        constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
-                       t = decltype(T)::value;
-        if (state.energy)
-          force<w, p, d, t, true>(state, points);
-        else
-          force<w, p, d, t, false>(state, points);
+        with_flag(work, [&](auto B) {
+          constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
+                         t = decltype(T)::value, b = decltype(B)::value;
+          if (state.energy)
+            force<w, p, d, t, true, b>(state, points);
+          else
+            force<w, p, d, t, false, b>(state, points);
+        });
       });
     }
 
@@ -186,6 +211,7 @@ namespace perideal
 
   private:
     double              rho = 0, K = 0, G = 0, tau = 1, lambda_i = 0.5, alpha_T = 0;
+    bool                work = false; // keep each bond's work (request_bond_energy())
     std::string         material_path;
     const OrdinaryState family{"ves_"};
 
@@ -225,10 +251,11 @@ namespace perideal
         state.breaking->newly_broken += newly_broken;
     }
 
-    template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy>
+    template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy, bool bond_work>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const
     {
+      const auto work_update = bond_work ? OrdinaryState::WorkUpdate(state, family) : OrdinaryState::WorkUpdate();
       const double       *V        = state.cloud.volume.data();
       const std::size_t  *offsets  = state.bonds.offsets.data();
       const unsigned int *neighbor = state.bonds.neighbor.data();
@@ -272,6 +299,13 @@ namespace perideal
               const double w   = OrdinaryState::weight<weighted, damaged>(state, b);
               const double t   = w * (r0 * (ki + kappa[j] * theta[j]) + ai * (edi - lambda_i * ebi) +
                                     alpha[j] * (edj - lambda_i * ebj));
+              // t again, with the two ends' terms added alike on both owners.
+              if constexpr (bond_work)
+                work_update.add(b,
+                                w * (r0 * OrdinaryState::symmetric_sum(ki, kappa[j] * theta[j]) +
+                                     OrdinaryState::symmetric_sum(ai * (edi - lambda_i * ebi),
+                                                                  alpha[j] * (edj - lambda_i * ebj))),
+                                e);
               const double k   = t * V[j] / r;
               fx += k * y[0];
               fy += k * y[1];

@@ -206,6 +206,9 @@ namespace perideal
     ModelState state{cloud, bonds, nullptr, mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
     has_stage_fields = false;
     for (const auto &block : blocks)
+      if (block.damage && block.damage->uses_bond_energy())
+        block.material->request_bond_energy();
+    for (const auto &block : blocks)
       {
         std::vector<PointField> point = block.material->point_fields();
         std::vector<BondField>  bond  = block.material->bond_fields();

@@ -64,6 +64,9 @@ namespace pdtest
   {
     std::string                        model;
     std::map<std::string, std::string> keys; // e.g. {"Bulk modulus", "1"}
+    /// Material::request_bond_energy() before the fields are declared, as
+    /// the core does for a block under Critical energy.
+    bool bond_energy = false;
   };
 
   /// The points with x > @p from_x form block 1, with horizon @p horizon.
@@ -150,6 +153,8 @@ namespace pdtest
           materials.push_back(entry.create());
           materials.back()->parse_parameters(prm, "test material");
           materials.back()->set_block(b, horizons[b]);
+          if (spec.bond_energy)
+            materials.back()->request_bond_energy();
           for (const auto &f : materials.back()->point_fields())
             fields->declare(f);
           for (const auto &f : materials.back()->bond_fields())

@@ -48,6 +48,16 @@ namespace perideal
       return {};
     }
 
+    /// True if the model breaks bonds by their energy
+    /// (Material::bond_energies()): the core then asks the block's material
+    /// for it (Material::request_bond_energy()) before its fields are
+    /// allocated.
+    virtual bool
+    uses_bond_energy() const
+    {
+      return false;
+    }
+
     /// True if the model sets a continuous bond damage
     /// (BondDamageArrays::damage); the core then allocates it (8 bytes per
     /// bond) and the block's material scales each bond by 1 - d

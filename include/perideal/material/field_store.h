@@ -105,6 +105,13 @@ namespace perideal
     bond(const std::string &name);
     const double *
     bond_old(const std::string &name) const;
+    /// The latest values of per-bond history field @p name: NP1 if an
+    /// evaluation wrote the bond fields since the last commit(), else N (what
+    /// the last accepted step left, which a rewritten field's swap put
+    /// there). For a reader between evaluations (a damage pass), which does
+    /// not know whether the step was accepted yet.
+    const double *
+    bond_latest(const std::string &name) const;
 
     bool
     has(const std::string &name) const

@@ -269,6 +269,17 @@ namespace perideal
       return false;
     }
 
+    /// A damage model of this block breaks bonds by their energy
+    /// (DamageModel::uses_bond_energy()). Called before point_fields() and
+    /// bond_fields() are read: a material whose bond energy depends on the
+    /// path (plastic, viscous) keeps the work done on each bond from now on,
+    /// as per-bond history that only such a block pays for; has_bond_energy()
+    /// is then true. A material whose bond energy is a function of the
+    /// current state (PMB, LPS) needs nothing.
+    virtual void
+    request_bond_energy()
+    {}
+
     /// The energy of each bond of point @p i into w[k], k = b - offsets[i]:
     /// the work 1/2 f . eta of the bond's pairwise force density f (both
     /// halves, per unit volume of each end) along the relative displacement
@@ -277,9 +288,11 @@ namespace perideal
     /// quadratic in the deformation, sum over the pairs of w beta V_i V_j
     /// (beta: the partial volume fraction, 1 without) is the strain energy,
     /// and w is the work the pair's force has done under
-    /// proportional loading (doc/models.md derives it per family). Reads
-    /// the stage fields as the last evaluation left them (ghosts current);
-    /// the same value on both owners of a bond.
+    /// proportional loading (doc/models.md derives it per family). A
+    /// path-dependent material (request_bond_energy()) gives the work done on
+    /// the bond so far, stored and dissipated, as its last evaluation
+    /// integrated it. Reads the stage fields as the last evaluation left them
+    /// (ghosts current); the same value on both owners of a bond.
     virtual void
     bond_energies(const ModelState &, const unsigned int, double *) const
     {}

@@ -9,9 +9,20 @@
 //   neighbors' dilatations in the Gershgorin bound, as lps.cc).
 // The mechanical extension of bond i->j with thermal strain:
 //   e = |y| - |xi| - (eps_T,i + eps_T,j)/2 |xi| (ModelState::thermal_strain).
+// The bond energy of Critical energy (Material::request_bond_energy()), which
+// for a plastic or viscous model depends on the path: the work the bond's
+// pair force t = t_ij + t_ji has done along its extension so far,
+//   w_NP1 = w_N + (t_N + t_NP1) (e_NP1 - e_N) / 2   (trapezoid rule per step),
+// stored and dissipated alike, kept per bond (w, t, e; N and NP1: 48 bytes per
+// bond, for such blocks only). Summed over the pairs (w beta V_i V_j) it is
+// the work of the internal forces: the stored energy plus the dissipation, to
+// the trapezoid rule's error. Both owners of a bond compute the same t and e
+// (the replicas of the other end's state agree bit for bit), so both halves
+// carry the same w.
 
 #include <perideal/material/material.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -27,9 +38,65 @@ namespace perideal
       , kappa(prefix + "kappa")
       , alpha(prefix + "alpha")
       , coupling(prefix + "coupling")
+      , work(prefix + "work")
+      , work_force(prefix + "work_force")
+      , work_extension(prefix + "work_extension")
     {}
 
     const std::string weighted_volume, kappa, alpha, coupling;
+    /// The per-bond history of the bond work (above): w, t and e.
+    const std::string work, work_force, work_extension;
+
+    /// The bond work's per-bond fields, rewritten whole by every evaluation.
+    std::vector<BondField>
+    work_fields() const
+    {
+      return {{work, true}, {work_force, true}, {work_extension, true}};
+    }
+
+    /// One evaluation's update of the bond work, from the last accepted step:
+    /// the force kernel calls add() with each bond's t and e. Default: none.
+    struct WorkUpdate
+    {
+      WorkUpdate() = default;
+      WorkUpdate(const ModelState &state, const OrdinaryState &family)
+        : w_N(state.fields.bond_old(family.work))
+        , t_N(state.fields.bond_old(family.work_force))
+        , e_N(state.fields.bond_old(family.work_extension))
+        , w(state.fields.bond(family.work))
+        , t(state.fields.bond(family.work_force))
+        , e(state.fields.bond(family.work_extension))
+      {}
+
+      void
+      add(const std::size_t b, const double t_NP1, const double e_NP1) const
+      {
+        w[b] = w_N[b] + 0.5 * (t_N[b] + t_NP1) * (e_NP1 - e_N[b]);
+        t[b] = t_NP1;
+        e[b] = e_NP1;
+      }
+
+      const double *w_N = nullptr, *t_N = nullptr, *e_N = nullptr;
+      double       *w = nullptr, *t = nullptr, *e = nullptr;
+    };
+
+    /// a + b, the same bit for bit whichever is which, also where the
+    /// compiler fuses a product into the sum (a multiply-add rounds once, so
+    /// fma(x, y, b) and fma(u, v, a) differ): the pair force of the bond
+    /// work, which both owners must compute alike.
+    static double
+    symmetric_sum(const double a, const double b)
+    {
+      return std::min(a, b) + std::max(a, b);
+    }
+
+    /// Material::bond_energies() of point @p i: the latest bond work.
+    void
+    work_energies(const ModelState &state, const unsigned int i, double *energies) const
+    {
+      const double *latest = state.fields.bond_latest(work);
+      std::copy(latest + state.bonds.offsets[i], latest + state.bonds.offsets[i + 1], energies);
+    }
 
     /// The four constant fields above.
     std::vector<PointField>
