@@ -45,9 +45,13 @@ namespace perideal
 {
   using namespace dealii;
 
-  class ElasticPlastic : public Material
+  class ElasticPlastic : public OrdinaryStateMaterial
   {
   public:
+    ElasticPlastic()
+      : OrdinaryStateMaterial("eps_")
+    {}
+
     static void
     declare_parameters(ParameterHandler &prm)
     {
@@ -117,29 +121,7 @@ namespace perideal
     bond_fields() const override
     {
       // Rewritten whole at every evaluation (force()): commit() swaps N and NP1.
-      std::vector<BondField> fields = {{"eps_edp", true}, {"eps_edp_other", true}};
-      if (work)
-        for (const BondField &f : family.work_fields())
-          fields.push_back(f);
-      return fields;
-    }
-
-    void
-    request_bond_energy() override
-    {
-      work = true;
-    }
-
-    bool
-    has_bond_energy() const override
-    {
-      return work;
-    }
-
-    void
-    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
-    {
-      family.work_energies(state, i, w);
+      return with_work_fields({{"eps_edp", true}, {"eps_edp_other", true}});
     }
 
     void
@@ -160,15 +142,13 @@ namespace perideal
     void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      variants(state, [&](auto W, auto P, auto D, auto T) {
-        with_flag(work, [&](auto B) {
-          constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
-                         t = decltype(T)::value, b = decltype(B)::value;
-          if (state.energy)
-            force<w, p, d, t, true, b>(state, points);
-          else
-            force<w, p, d, t, false, b>(state, points);
-        });
+      force_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
+        constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
+                       t = decltype(T)::value, b = decltype(B)::value;
+        if (state.energy)
+          force<w, p, d, t, true, b>(state, points);
+        else
+          force<w, p, d, t, false, b>(state, points);
       });
     }
 
@@ -239,16 +219,7 @@ namespace perideal
 
   private:
     double              rho = 0, K = 0, G = 0, Y0 = 0, H = 0, alpha_T = 0;
-    bool                work = false; // keep each bond's work (request_bond_energy())
     std::string         material_path;
-    const OrdinaryState family{"eps_"};
-
-    template <typename F>
-    void
-    variants(const ModelState &state, const F &f) const
-    {
-      OrdinaryState::variants(state, f);
-    }
 
     /// The dilatation, the return factor s and the point history of each
     /// point; with @p breaking, first the fused critical stretch.

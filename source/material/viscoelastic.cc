@@ -39,9 +39,13 @@ namespace perideal
 {
   using namespace dealii;
 
-  class Viscoelastic : public Material
+  class Viscoelastic : public OrdinaryStateMaterial
   {
   public:
+    Viscoelastic()
+      : OrdinaryStateMaterial("ves_")
+    {}
+
     static void
     declare_parameters(ParameterHandler &prm)
     {
@@ -108,29 +112,7 @@ namespace perideal
     {
       // e^d and e^b of the bond's own half, and replicas of the other end's; rewritten
       // whole at every evaluation (force()): commit() swaps N and NP1.
-      std::vector<BondField> fields = {{"ves_ed", true}, {"ves_eb", true}, {"ves_ed_other", true}, {"ves_eb_other", true}};
-      if (work)
-        for (const BondField &f : family.work_fields())
-          fields.push_back(f);
-      return fields;
-    }
-
-    void
-    request_bond_energy() override
-    {
-      work = true;
-    }
-
-    bool
-    has_bond_energy() const override
-    {
-      return work;
-    }
-
-    void
-    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
-    {
-      family.work_energies(state, i, w);
+      return with_work_fields({{"ves_ed", true}, {"ves_eb", true}, {"ves_ed_other", true}, {"ves_eb_other", true}});
     }
 
     void
@@ -151,15 +133,13 @@ namespace perideal
     void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
     {
-      variants(state, [&](auto W, auto P, auto D, auto T) {
-        with_flag(work, [&](auto B) {
-          constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
-                         t = decltype(T)::value, b = decltype(B)::value;
-          if (state.energy)
-            force<w, p, d, t, true, b>(state, points);
-          else
-            force<w, p, d, t, false, b>(state, points);
-        });
+      force_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
+        constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
+                       t = decltype(T)::value, b = decltype(B)::value;
+        if (state.energy)
+          force<w, p, d, t, true, b>(state, points);
+        else
+          force<w, p, d, t, false, b>(state, points);
       });
     }
 
@@ -211,16 +191,7 @@ namespace perideal
 
   private:
     double              rho = 0, K = 0, G = 0, tau = 1, lambda_i = 0.5, alpha_T = 0;
-    bool                work = false; // keep each bond's work (request_bond_energy())
     std::string         material_path;
-    const OrdinaryState family{"ves_"};
-
-    template <typename F>
-    void
-    variants(const ModelState &state, const F &f) const
-    {
-      OrdinaryState::variants(state, f);
-    }
 
     /// The dilatation; with @p breaking, first the fused critical stretch.
     template <bool weighted, bool periodic, bool damaged, bool thermal, bool breaking>

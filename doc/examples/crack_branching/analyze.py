@@ -5,8 +5,8 @@ runs, a table and a picture (README.md).
   python3 analyze.py [RUN_DIR ...]   (default: every output/*/ that holds branching.pvd)
 
 For each run, from the damage at the last field step (the .pvtu's pieces,
-read here without VTK), seen from above (the largest damage through the
-thickness, one pixel per point of the grid): in each column of points ahead
+read without VTK by ../pvtu_cells.py), seen from above (the largest damage
+through the thickness, one pixel per point of the grid): in each column of points ahead
 of the notch, the runs of points with damage >= 0.3 (gaps of up to two
 points closed) are the crack's strands. The crack has branched at the
 first x from which every column to the end of the damage has two strands or
@@ -21,18 +21,17 @@ bonds, scene memory. Writes branching.png: the damage of every run, a row
 per spacing, all-PD left and coupled right.
 """
 
-import base64
 import csv
 import glob
 import math
 import os
 import re
-import struct
 import sys
-import xml.etree.ElementTree as ElementTree
-import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+import pvtu_cells  # noqa: E402  (doc/examples/pvtu_cells.py)
+
 NOTCH_TIP = 0.05
 THRESHOLD = 0.3
 # Rayleigh wave speed of the PMB glass (E = 72 GPa, nu = 1/4, rho = 2440):
@@ -40,42 +39,12 @@ THRESHOLD = 0.3
 C_R = 0.9194 * math.sqrt(72e9 / (2 * 1.25 * 2440))
 
 
-def read_array(element):
-    """A DataArray as deal.II writes it: ascii, or base64 with a zlib block."""
-    text = "".join(element.text.split()) if element.text else ""
-    kind = "f" if element.get("type") == "Float32" else "d"
-    if not text:
-        return []
-    if element.get("format") == "ascii":
-        return [float(v) for v in text.split()]
-    blocks = struct.unpack("<4I", base64.b64decode(text[:24]))[0]
-    if blocks != 1:
-        raise SystemExit("analyze.py: %d zlib blocks, expected 1" % blocks)
-    raw = zlib.decompress(base64.b64decode(text[24:]))
-    n = len(raw) // struct.calcsize(kind)
-    return list(struct.unpack("<%d%s" % (n, kind), raw))
-
-
 def read_points(pvtu):
-    """(x, y, damage) of every PD point: each cell's 8 vertices averaged.
-    The finest cells are the PD points; the finite element cells, coarser,
-    are skipped."""
-    record = ElementTree.parse(pvtu).getroot()
-    folder = os.path.dirname(pvtu)
-    points = []
-    for piece in record.iter("Piece"):
-        root = ElementTree.parse(os.path.join(folder, piece.get("Source"))).getroot()
-        for p in root.iter("Piece"):
-            xyz = read_array(p.find("Points/DataArray"))
-            damage = None
-            for a in p.find("PointData").iter("DataArray"):
-                if a.get("Name") == "Damage":
-                    damage = read_array(a)
-            for c in range(len(damage) // 8):
-                v = xyz[24 * c:24 * c + 24]
-                points.append((sum(v[0::3]) / 8, sum(v[1::3]) / 8, damage[8 * c], max(v[0::3]) - min(v[0::3])))
-    h = min(p[3] for p in points)
-    return [p[:3] for p in points if p[3] < 1.5 * h]
+    """(x, y, damage) of every PD point: the finest cells (the finite element
+    cells, coarser, are skipped)."""
+    cells = pvtu_cells.read_cells(pvtu, "Damage")
+    h = min(c[4] for c in cells)
+    return [(c[0], c[1], c[3]) for c in cells if c[4] < 1.5 * h]
 
 
 def field_steps(run):
@@ -107,8 +76,7 @@ def strands(column, ny):
     return runs
 
 
-def branching(points):
-    image, h = top_view(points)
+def branching(image, h):
     nx, ny = round(0.1 / h), round(0.04 / h)
     columns = [{} for _ in range(nx)]
     for (i, j), d in image.items():
@@ -125,18 +93,13 @@ def branching(points):
     x_branch = (branch + 0.5) * h if branch is not None else float("nan")
     i90 = int(0.09 / h)
     centres = [((a + b + 1) / 2 * h - 0.02) for a, b in strands(columns[i90], ny)]
-    return x_branch, centres, h
-
-
-def summary(log, key):
-    m = re.search(r"^  " + key + r":\s+(.*)$", log, re.M)
-    return m.group(1) if m else ""
+    return x_branch, centres
 
 
 def measure(run):
     rows = list(csv.DictReader(open(os.path.join(run, "branching.globals.csv"))))
-    points = read_points(field_steps(run)[-1])
-    x_branch, centres, h = branching(points)
+    image, h = top_view(read_points(field_steps(run)[-1]))
+    x_branch, centres = branching(image, h)
     t = [float(r["time"]) * 1e6 for r in rows]
     tip = [float(r["tip"]) for r in rows]
     rate = [float(r["tip_rate"]) for r in rows]
@@ -150,14 +113,15 @@ def measure(run):
     edge = next((a for a, b in zip(t, tip) if b >= 0.049), float("nan"))
     reach = (float(rows[-1]["upper"]), float(rows[-1]["lower"]))
     log = open(os.path.join(run, "log")).read() if os.path.exists(os.path.join(run, "log")) else ""
-    return dict(points=points, h=h, x_branch=x_branch, branches=len(centres), upper=upper, lower=lower,
+    return dict(image=image, h=h, x_branch=x_branch, branches=len(centres), upper=upper, lower=lower,
                 start=start, at_branch=at_branch, speed=speed, peak=peak, edge=edge, reach=reach,
-                wall=summary(log, "wall time").split(" (")[0], bonds=summary(log, "bonds").split(" ")[0],
-                npoints=summary(log, "points").split(" ")[0], memory=summary(log, "scene memory").split(" over")[0])
+                wall=pvtu_cells.log_value(log, "wall time").split(" (")[0],
+                bonds=pvtu_cells.log_value(log, "bonds").split(" ")[0],
+                npoints=pvtu_cells.log_value(log, "points").split(" ")[0],
+                memory=pvtu_cells.log_value(log, "scene memory").split(" over")[0])
 
 
-def draw_top_view(ax, points):
-    image, h = top_view(points)
+def draw_top_view(ax, image, h):
     nx, ny = round(0.1 / h), round(0.04 / h)
     grid = [[float("nan")] * nx for _ in range(ny)]
     for (i, j), d in image.items():
@@ -186,7 +150,7 @@ def picture(results, out):
         scene, spacing = name.rsplit("-", 1)
         ax = axes[spacings.index(spacing), scenes.index(scene)]
         ax.set_visible(True)
-        draw_top_view(ax, r["points"])
+        draw_top_view(ax, r["image"], r["h"])
         ax.plot([0, 50], [0, 0], "k-", lw=1.5)
         if r["x_branch"] == r["x_branch"]:
             ax.axvline(r["x_branch"] * 1e3, color="w", ls="--", lw=0.8)

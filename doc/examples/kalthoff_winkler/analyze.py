@@ -5,7 +5,7 @@
   python3 analyze.py --sequence RUN_DIR   kw_sequence.png: every field step of one run
 
 For each run: the damage at the last field step (the .pvtu's pieces, read
-here without VTK), the points with damage >= 0.3 in the upper crack's path
+without VTK by ../pvtu_cells.py), the points with damage >= 0.3 in the upper crack's path
 (x > 50 mm, y > 25 mm) between 12 and 35 mm from its notch tip (50, 25) mm,
 and the direction through the tip that fits them best (total least squares:
 the principal axis of their offsets from the tip). The angle is measured
@@ -18,57 +18,25 @@ points, bonds. Writes kw_damage.png, the damage of the runs named in
 PICTURE (top view, the largest damage through the thickness).
 """
 
-import base64
 import csv
 import glob
 import math
 import os
 import re
-import struct
 import sys
-import xml.etree.ElementTree as ElementTree
-import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+import pvtu_cells  # noqa: E402  (doc/examples/pvtu_cells.py)
+
 TIP = (0.05, 0.025)
 R_MIN, R_MAX = 0.012, 0.035
 PICTURE = ["pmb-1mm", "lps-1mm", "energy-1mm"]
 
 
-def read_array(element, n_components):
-    """A DataArray as deal.II writes it: ascii, or base64 with a zlib block."""
-    text = "".join(element.text.split()) if element.text else ""
-    kind = "f" if element.get("type") == "Float32" else "d"
-    if not text:
-        return []
-    if element.get("format") == "ascii":
-        return [float(v) for v in text.split()]
-    header = base64.b64decode(text[:24])
-    blocks, size, last, compressed = struct.unpack("<4I", header)
-    if blocks != 1:
-        raise SystemExit("analyze.py: %d zlib blocks, expected 1" % blocks)
-    raw = zlib.decompress(base64.b64decode(text[24:]))
-    n = len(raw) // struct.calcsize(kind)
-    return list(struct.unpack("<%d%s" % (n, kind), raw))
-
-
 def read_points(pvtu):
-    """(x, y, z, damage) of every PD point: each cell's 8 vertices averaged."""
-    record = ElementTree.parse(pvtu).getroot()
-    folder = os.path.dirname(pvtu)
-    points = []
-    for piece in record.iter("Piece"):
-        root = ElementTree.parse(os.path.join(folder, piece.get("Source"))).getroot()
-        for p in root.iter("Piece"):
-            xyz = read_array(p.find("Points/DataArray"), 3)
-            damage = None
-            for a in p.find("PointData").iter("DataArray"):
-                if a.get("Name") == "Damage":
-                    damage = read_array(a, 1)
-            for c in range(len(damage) // 8):
-                v = xyz[24 * c:24 * c + 24]
-                points.append((sum(v[0::3]) / 8, sum(v[1::3]) / 8, sum(v[2::3]) / 8, damage[8 * c]))
-    return points
+    """(x, y, z, damage) of every PD point."""
+    return [c[:4] for c in pvtu_cells.read_cells(pvtu, "Damage")]
 
 
 def last_pvtu(run):
@@ -95,11 +63,6 @@ def crack_angle(points, sign):
     return math.degrees(angle), n
 
 
-def summary(log, key):
-    m = re.search(r"^  " + key + r":\s+(.*)$", log, re.M)
-    return m.group(1) if m else ""
-
-
 def measure(run):
     rows = list(csv.DictReader(open(os.path.join(run, "kw.globals.csv"))))
     points = read_points(last_pvtu(run))
@@ -111,8 +74,9 @@ def measure(run):
     speed = sum(running) / len(running) / 1000 if running else float("nan")
     log = open(os.path.join(run, "log")).read() if os.path.exists(os.path.join(run, "log")) else ""
     return dict(upper=upper, lower=lower, n=n_upper, start=start, speed=speed, points=points,
-                wall=summary(log, "wall time").split(" (")[0], bonds=summary(log, "bonds").split(" ")[0],
-                npoints=summary(log, "points").split(" ")[0])
+                wall=pvtu_cells.log_value(log, "wall time").split(" (")[0],
+                bonds=pvtu_cells.log_value(log, "bonds").split(" ")[0],
+                npoints=pvtu_cells.log_value(log, "points").split(" ")[0])
 
 
 def draw_top_view(ax, points):

@@ -327,4 +327,58 @@ namespace perideal
       return w;
     }
   };
+
+  /// A Material of Mitchell's ordinary state-based family: its OrdinaryState
+  /// (family) and the bond work of Critical energy, which Elastic plastic and
+  /// Viscoelastic keep alike (request_bond_energy() switches it on).
+  class OrdinaryStateMaterial : public Material
+  {
+  public:
+    explicit OrdinaryStateMaterial(const std::string &prefix)
+      : family(prefix)
+    {}
+
+    void
+    request_bond_energy() override
+    {
+      work = true;
+    }
+
+    bool
+    has_bond_energy() const override
+    {
+      return work;
+    }
+
+    void
+    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
+    {
+      family.work_energies(state, i, w);
+    }
+
+  protected:
+    /// The model's own per-bond fields @p fields, plus the bond work's if requested.
+    std::vector<BondField>
+    with_work_fields(std::vector<BondField> fields) const
+    {
+      if (work)
+        for (const BondField &f : family.work_fields())
+          fields.push_back(f);
+      return fields;
+    }
+
+    /// OrdinaryState::variants() and whether the force kernel keeps the bond
+    /// work: @p f(W, P, D, T, B).
+    template <typename F>
+    void
+    force_variants(const ModelState &state, const F &f) const
+    {
+      OrdinaryState::variants(state, [&](auto W, auto P, auto D, auto T) {
+        with_flag(work, [&](auto B) { f(W, P, D, T, B); });
+      });
+    }
+
+    const OrdinaryState family;
+    bool                work = false; // keep each bond's work (request_bond_energy())
+  };
 } // namespace perideal
