@@ -15,7 +15,10 @@
 #         (--relaxation-time)
 #   corr  Elastic correspondence (K = 1, G = 0.6, its defaults: Green-Lagrange,
 #         hourglass 0.02), PeriDeal only: its ratio column is against
-#         PeriDeal's LPS of the same case (run lps too)
+#         PeriDeal's LPS of the same case (run lps too). With damage its
+#         points are neglected past damage 0.5 (Peridigm's practice): without,
+#         a point left with few bonds has a near-singular shape tensor and
+#         the dmg run blows up at step 47
 #   elastic     critical stretch 1.0,   vamp 0.01 (no bond breaks)
 #   elastic-nd  as elastic, but PeriDeal runs without a damage model (LAMMPS
 #               cannot switch its bond-break check off: it runs 'elastic')
@@ -232,6 +235,7 @@ write_prm() { # model variant n file output-frequency output-variables lps-influ
         echo "    set Model = Critical stretch"
         echo "    set Critical stretch = $sc"
       fi
+      [ "$model" = corr ] && [ "$var" != elastic ] && echo "    set Critical damage to neglect material point = 0.5"
       echo "  end"
       echo "end"
     fi

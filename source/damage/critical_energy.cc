@@ -21,11 +21,14 @@
 //        per-bond history, trapezoid rule per step), stored and dissipated:
 //        plastic flow or a dashpot that takes energy brings the bond nearer
 //        to breaking, as in Foster et al.'s work-based criterion.
+//   Correspondence (Elastic, Elastic plastic): w = int (T_ij - T_ji) . d(u_j - u_i),
+//        the work of the pair's force, which is not along the bond, along the
+//        relative displacement (correspondence.h: per-bond history, trapezoid
+//        rule per step), stabilization included.
 // Summed over the pairs (w V_i V_j), w is the strain energy exactly for PMB
 // and LPS, and the stored energy plus the dissipation (to the trapezoid rule's
-// error) for the inelastic two, so a fully split specimen releases what the
-// bonds across it took and G_c per area. The correspondence models have no
-// pair force along the bond and are refused.
+// error) for the path-dependent ones, so a fully split specimen releases what
+// the bonds across it took and G_c per area.
 // The stage fields (LPS's dilatation terms) are those of the evaluation
 // before (the damage pass runs first, ForceModel::compute_forces()): both
 // owners of a bond read the same values, ghosts included, so both halves
@@ -54,8 +57,9 @@ namespace perideal
     declare_parameters(ParameterHandler &prm)
     {
       prm.declare_entry("Critical energy release rate", "0", Patterns::Double(),
-                        "G_c > 0: a stretched bond breaks when its energy (for Elastic plastic and Viscoelastic: "
-                        "the work done on it, stored and dissipated) exceeds w_c = 4 G_c / (pi horizon^4).");
+                        "G_c > 0: a stretched bond breaks when its energy (for Elastic plastic, Viscoelastic and "
+                        "the correspondence models: the work done on it, stored and dissipated) exceeds "
+                        "w_c = 4 G_c / (pi horizon^4).");
     }
 
     void
@@ -78,8 +82,7 @@ namespace perideal
     {
       AssertThrow(material_.has_bond_energy(),
                   ExcMessage(path + ": Critical energy breaks a bond by its energy, which this block's material "
-                                    "does not define (PMB, LPS, Elastic plastic and Viscoelastic do; the "
-                                    "correspondence models, whose bond forces are not along the bond, do not)"));
+                                    "does not define"));
       material        = &material_;
       critical_energy = 4 * release_rate / (M_PI * std::pow(horizon, 4));
     }
@@ -164,8 +167,8 @@ namespace perideal
 
   PERIDEAL_REGISTER(DamageModel, CriticalEnergy, "Critical energy",
                     "A stretched bond breaks when its energy (the work of its pairwise force along its extension, "
-                    "the material's; for Elastic plastic and Viscoelastic the work done on it so far, stored and "
-                    "dissipated) exceeds w_c = 4 G_c / (pi horizon^4) (Foster et al. 2011). PMB, LPS, Elastic "
-                    "plastic, Viscoelastic; a block with it bonds only to blocks with the same damage model and "
-                    "horizon.")
+                    "the material's; for Elastic plastic, Viscoelastic and the correspondence models the work "
+                    "done on it so far, stored and dissipated) exceeds w_c = 4 G_c / (pi horizon^4) (Foster et "
+                    "al. 2011). Every material; a block with it bonds only to blocks with the same damage model "
+                    "and horizon.")
 } // namespace perideal

@@ -6,14 +6,59 @@
 
 #include <deal.II/base/symmetric_tensor.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace perideal
 {
   using namespace dealii;
   using namespace correspondence;
+
+  namespace
+  {
+    // The bond work's per-bond history (correspondence.h): w, g and v.
+    const std::string work_name = "corr_work";
+    const std::string work_force[3]        = {"corr_work_force_x", "corr_work_force_y", "corr_work_force_z"};
+    const std::string work_displacement[3] = {"corr_work_displacement_x", "corr_work_displacement_y",
+                                              "corr_work_displacement_z"};
+
+    /// One evaluation's update of the bond work from the last accepted step.
+    struct WorkUpdate
+    {
+      explicit WorkUpdate(FieldStore &fields)
+        : w_N(fields.bond_old(work_name))
+        , w(fields.bond(work_name))
+      {
+        for (unsigned int p = 0; p < 3; ++p)
+          {
+            g_N[p] = fields.bond_old(work_force[p]);
+            v_N[p] = fields.bond_old(work_displacement[p]);
+            g[p]   = fields.bond(work_force[p]);
+            v[p]   = fields.bond(work_displacement[p]);
+          }
+      }
+
+      /// Bond b's pair force @p g_NP1 and relative displacement @p v_NP1.
+      void
+      add(const std::size_t b, const double *g_NP1, const double *v_NP1) const
+      {
+        double dw = 0;
+        for (unsigned int p = 0; p < 3; ++p)
+          {
+            dw += (g_N[p][b] + g_NP1[p]) * (v_NP1[p] - v_N[p][b]);
+            g[p][b] = g_NP1[p];
+            v[p][b] = v_NP1[p];
+          }
+        w[b] = w_N[b] + 0.5 * dw;
+      }
+
+      const double *w_N, *g_N[3], *v_N[3];
+      double       *w, *g[3], *v[3];
+    };
+  } // namespace
 
   void
   correspondence::polar_decomposition(const double *F, double *R, double *U, double *Uinv)
@@ -216,24 +261,47 @@ namespace perideal
     return 0;
   }
 
+  void
+  CorrespondenceMaterial::bond_energies(const ModelState &state, const unsigned int i, double *w) const
+  {
+    const double *latest = state.fields.bond_latest(work_name);
+    std::copy(latest + state.bonds.offsets[i], latest + state.bonds.offsets[i + 1], w);
+  }
+
+  std::vector<BondField>
+  CorrespondenceMaterial::bond_fields() const
+  {
+    if (!work)
+      return {};
+    std::vector<BondField> f = {{work_name, true}};
+    for (unsigned int p = 0; p < 3; ++p)
+      {
+        f.push_back({work_force[p], true});
+        f.push_back({work_displacement[p], true});
+      }
+    return f;
+  }
+
   template <BondDamage mode>
   void
   CorrespondenceMaterial::force_variants(const ModelState &state, const std::vector<unsigned int> &points) const
   {
     with_flag(state.energy != nullptr, [&](auto energy) {
       with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-        constexpr bool E = decltype(energy)::value, P = decltype(periodic)::value;
-        if (stabilization == 1)
-          force<mode, E, P, 1>(state, points);
-        else if (stabilization == 2)
-          force<mode, E, P, 2>(state, points);
-        else
-          force<mode, E, P, 0>(state, points);
+        with_flag(work, [&](auto track) {
+          constexpr bool E = decltype(energy)::value, P = decltype(periodic)::value, T = decltype(track)::value;
+          if (stabilization == 1)
+            force<mode, E, P, 1, T>(state, points);
+          else if (stabilization == 2)
+            force<mode, E, P, 2, T>(state, points);
+          else
+            force<mode, E, P, 0, T>(state, points);
+        });
       });
     });
   }
 
-  template <BondDamage mode, bool energy, bool periodic, int stab>
+  template <BondDamage mode, bool energy, bool periodic, int stab, bool track>
   void
   CorrespondenceMaterial::force(const ModelState &state, const std::vector<unsigned int> &points) const
   {
@@ -244,6 +312,9 @@ namespace perideal
     const double *live = stab != 0 ? state.fields.get("corr_live").begin() : nullptr;
     const double  c    = stabilization_constant();
     double       *f    = state.force;
+    std::optional<WorkUpdate> work_update;
+    if constexpr (track)
+      work_update.emplace(state.fields);
     for (const unsigned int i : points)
       {
         const BondOrigin origin(fam.X, fam.u, i);
@@ -257,10 +328,14 @@ namespace perideal
             bond_vectors<periodic>(fam.X, fam.u, j, origin, fam.box, e, y);
             const double  wV  = fam.weight<mode>(b) * fam.V[j];
             const double *PKj = PK + 9 * j;
-            double        t[3];
+            // Tracking the work, t is first the pair force per unit volume
+            // of each end without beta (1 * x is exact, so the forces of
+            // the other variants keep their round-off), then scaled by wV.
+            const double scale = track ? 1.0 : wV;
+            double       t[3];
             for (unsigned int p = 0; p < 3; ++p)
-              t[p] = wV * ((PKi[3 * p] + PKj[3 * p]) * e[0] + (PKi[3 * p + 1] + PKj[3 * p + 1]) * e[1] +
-                           (PKi[3 * p + 2] + PKj[3 * p + 2]) * e[2]);
+              t[p] = scale * ((PKi[3 * p] + PKj[3 * p]) * e[0] + (PKi[3 * p + 1] + PKj[3 * p + 1]) * e[1] +
+                              (PKi[3 * p + 2] + PKj[3 * p + 2]) * e[2]);
             if (stab != 0)
               {
                 const double *Fj = Fs + 9 * j;
@@ -274,7 +349,7 @@ namespace perideal
                 if (stab == 2)
                   {
                     for (unsigned int p = 0; p < 3; ++p)
-                      t[p] += c * wV * (zi[p] + zj[p]);
+                      t[p] += c * scale * (zi[p] + zj[p]);
                     if (energy)
                       Ws += wV * (zi[0] * zi[0] + zi[1] * zi[1] + zi[2] * zi[2]);
                   }
@@ -282,12 +357,24 @@ namespace perideal
                   {
                     const double r0 = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
                     const double r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-                    const double k  = c * wV *
+                    const double k  = c * scale *
                                      ((zi[0] + zj[0]) * y[0] + (zi[1] + zj[1]) * y[1] + (zi[2] + zj[2]) * y[2]) /
                                      (r0 * r2);
                     for (unsigned int p = 0; p < 3; ++p)
                       t[p] += k * y[p];
                   }
+              }
+            if constexpr (track)
+              {
+                const double intact = fam.intact<mode>(b);
+                double       g[3], v[3];
+                for (unsigned int p = 0; p < 3; ++p)
+                  {
+                    g[p] = intact * t[p];
+                    v[p] = y[p] - e[p];
+                    t[p] *= wV;
+                  }
+                work_update->add(b, g, v);
               }
             fx += t[0];
             fy += t[1];

@@ -457,15 +457,31 @@ namespace perideal
       pcout << "  fragments:              " << last_fragments << " at t = " << sci(last_fragments_time, 6)
             << (output.fragments ? " (" + output.directory + "/" + output.base_name + ".fragments.csv)" : std::string())
             << "\n";
+    // Without the release tracked, the energy broken or damaged bonds took
+    // with them is in the balance: say so, lest it be read as an error.
+    double damaged = 0;
+    if (!dissipation)
+      {
+        for (std::size_t b = 0; b < model.broken.size(); ++b)
+          damaged += model.broken[b] != 0 || (!model.damage.empty() && model.damage[b] > 0);
+        damaged = Utilities::MPI::sum(damaged, comm) / 2;
+      }
     if (e_ref > 0)
-      pcout << "  energy balance error:   "
-            << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy +
-                    record.material_dissipation + record.last_contact_energy + record.contact_dissipation -
-                    record.initial_energy - record.external_work) /
-                     e_ref,
-                   3)
-            << " (kinetic + strain" << (contact ? " + contact + friction work" : "") << (dissipation ? " + dissipated" : "")
-            << (material_dissipation ? " + material dissipation" : "") << " - initial - external work, relative)\n";
+      {
+        pcout << "  energy balance error:   "
+              << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy +
+                      record.material_dissipation + record.last_contact_energy + record.contact_dissipation -
+                      record.initial_energy - record.external_work) /
+                       e_ref,
+                     3)
+              << " (kinetic + strain" << (contact ? " + contact + friction work" : "")
+              << (dissipation ? " + dissipated" : "") << (material_dissipation ? " + material dissipation" : "")
+              << " - initial - external work, relative)\n";
+        if (damaged > 0)
+          pcout << "                          not an error alone: it includes the energy released by the "
+                << std::setprecision(12) << damaged
+                << " damaged bonds, untracked; Solver/Track dissipated energy = true separates it\n";
+      }
     pcout << "  warnings:               " << (record.warnings.empty() ? std::string("none") : std::to_string(record.warnings.size()))
           << "\n";
     for (const auto &w : record.warnings)

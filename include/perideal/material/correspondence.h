@@ -42,6 +42,19 @@
 // test on the intact family is an error naming the point.
 // Stable time step: a Gershgorin bound of the linearized force at the
 // reference state with the elastic moduli K, G (stable_time_step()).
+// The bond energy of Critical energy (request_bond_energy()): the force on
+// the pair is not along the bond, so it is the work the pair's force
+// g = (T_ij - T_ji) / (beta V_j) (per unit volume of each end, stabilization
+// included; times 1 - d) has done along the relative displacement
+// v = Y - xi = u_j - u_i so far,
+//   w_NP1 = w_N + (g_N + g_NP1) . (v_NP1 - v_N) / 2   (trapezoid rule per step),
+// kept per bond (w, g, v; N and NP1: 112 bytes per bond, for such blocks
+// only). Since sum_i V_i f_i . du_i = -sum_i V_i P_i : dF_i, summed over the
+// pairs (w beta V_i V_j) it is the work of the stress on F: the stored energy
+// plus the plastic dissipation, to the trapezoid rule's error, and Silling's
+// stabilization energy; the Hourglass force's work (not a potential force)
+// is in w but in no W. The other end computes -g and -v from the same values
+// (P_j K_j^-1 is ghosted), so both halves carry the same w bit for bit.
 
 #include <perideal/material/material.h>
 
@@ -136,6 +149,18 @@ namespace perideal
         return w;
       }
 
+      /// 1 - d of bond b (the weight without the partial volume fraction).
+      template <BondDamage mode>
+      double
+      intact(const std::size_t b) const
+      {
+        if (mode == BondDamage::continuous)
+          return 1.0 - d[b];
+        if (mode != BondDamage::none)
+          return 1.0 - broken[b];
+        return 1.0;
+      }
+
       const Periodicity   box;
       const double       *X, *V, *u;
       const std::size_t  *offsets;
@@ -203,6 +228,27 @@ namespace perideal
     double
     stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override;
 
+    /// Keeps the bond work (the top) from now on.
+    void
+    request_bond_energy() override
+    {
+      work = true;
+    }
+
+    bool
+    has_bond_energy() const override
+    {
+      return work;
+    }
+
+    /// The latest bond work of the bonds of point @p i.
+    void
+    bond_energies(const ModelState &state, const unsigned int i, double *w) const override;
+
+    /// The bond work's history, if requested.
+    std::vector<BondField>
+    bond_fields() const override;
+
   protected:
     /// @p model: the registered name, for the messages.
     explicit CorrespondenceMaterial(const std::string &model)
@@ -252,6 +298,7 @@ namespace perideal
     double      thermal_expansion = 0;
 
   private:
+    bool   work                  = false; // keep each bond's work (request_bond_energy())
     int    stabilization         = 1; // 0 none, 1 hourglass, 2 Silling
     double hourglass_coefficient = 0.02, silling_coefficient = 0.02;
     double stiffness_horizon     = 0;
@@ -340,8 +387,8 @@ namespace perideal
     void
     force_variants(const ModelState &state, const std::vector<unsigned int> &points) const;
 
-    /// stab: 0 none, 1 hourglass, 2 Silling.
-    template <BondDamage mode, bool energy, bool periodic, int stab>
+    /// stab: 0 none, 1 hourglass, 2 Silling; track: update the bond work.
+    template <BondDamage mode, bool energy, bool periodic, int stab, bool track>
     void
     force(const ModelState &state, const std::vector<unsigned int> &points) const;
   };
