@@ -99,135 +99,138 @@ namespace perideal
     }
   } // namespace
 
-  class ShortRangeForce : public ContactModel
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class ShortRangeForce : public ContactModel
     {
-      prm.declare_entry("Spring constant", "0", Patterns::Double(0),
-                        "k of c = 18 k / (pi delta^4) (a bulk modulus; Peridigm's Spring Constant): the "
-                        "stiffness of contact relative to the material's bonds.");
-      declare_common(prm);
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Spring constant", "0", Patterns::Double(0),
+                          "k of c = 18 k / (pi delta^4) (a bulk modulus; Peridigm's Spring Constant): the "
+                          "stiffness of contact relative to the material's bonds.");
+        declare_common(prm);
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        k = prm.get_double("Spring constant");
+        AssertThrow(k > 0, ExcMessage(path + "/Spring constant must be positive (it is " + prm.get("Spring constant") + ")"));
+        parse_common(prm, path);
+      }
+
+      double
+      contact_radius() const override
+      {
+        return r_c;
+      }
+
+      bool
+      uses_contact_counts() const override
+      {
+        return mu > 0;
+      }
+
+      bool
+      uses_velocity() const override
+      {
+        return mu > 0;
+      }
+
+      double
+      stiffness(const double horizon, const double) const override
+      {
+        const double delta = horizon_for(horizon);
+        return 18 * k / (M_PI * std::pow(delta, 5));
+      }
+
+      void
+      compute_force(const ContactPoints &points, const unsigned int *first, const unsigned int *second,
+                    const std::size_t n, ContactOutput &out) const override
+      {
+        evaluate(points, first, second, n, k, out);
+      }
+
+    protected:
+      void
+      parse_common(ParameterHandler &prm, const std::string &path)
+      {
+        r_c     = prm.get_double("Contact radius");
+        horizon = prm.get_double("Horizon");
+        mu      = prm.get_double("Friction coefficient");
+        AssertThrow(r_c > 0, ExcMessage(path + "/Contact radius must be positive (it is " + prm.get("Contact radius") +
+                                        "): two points closer than it repel each other"));
+        AssertThrow(mu >= 0, ExcMessage(path + "/Friction coefficient must be 0 or positive (it is " +
+                                        prm.get("Friction coefficient") + ")"));
+      }
+
+      double
+      horizon_for(const double block_horizon) const
+      {
+        return horizon > 0 ? horizon : block_horizon;
+      }
+
+      void
+      evaluate(const ContactPoints &points, const unsigned int *first, const unsigned int *second, const std::size_t n,
+               const double spring, ContactOutput &out) const
+      {
+        if (mu > 0)
+          short_range_force<true>(points, first, second, n, spring, r_c, horizon, mu, out);
+        else
+          short_range_force<false>(points, first, second, n, spring, r_c, horizon, mu, out);
+      }
+
+      double k = 0, r_c = 0, horizon = 0, mu = 0;
+    };
+
+    class TimeDependentShortRangeForce : public ShortRangeForce
     {
-      k = prm.get_double("Spring constant");
-      AssertThrow(k > 0, ExcMessage(path + "/Spring constant must be positive (it is " + prm.get("Spring constant") + ")"));
-      parse_common(prm, path);
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Spring constant", "0", Patterns::Anything(),
+                          "k(t) as a muparser expression in t (e.g. '1e9*min(1, t/1e-5)'): a contact that "
+                          "stiffens or softens in time (Peridigm's Time Dependent Short Range Force).");
+        declare_common(prm);
+      }
 
-    double
-    contact_radius() const override
-    {
-      return r_c;
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        function = std::make_shared<Expression>(prm.get("Spring constant"), path + "/Spring constant");
+        parse_common(prm, path);
+      }
 
-    bool
-    uses_contact_counts() const override
-    {
-      return mu > 0;
-    }
+      double
+      stiffness(const double horizon, const double time) const override
+      {
+        return 18 * spring(time) / (M_PI * std::pow(horizon_for(horizon), 5));
+      }
 
-    bool
-    uses_velocity() const override
-    {
-      return mu > 0;
-    }
+      void
+      compute_force(const ContactPoints &points, const unsigned int *first, const unsigned int *second,
+                    const std::size_t n, ContactOutput &out) const override
+      {
+        evaluate(points, first, second, n, spring(points.time), out);
+      }
 
-    double
-    stiffness(const double horizon, const double) const override
-    {
-      const double delta = horizon_for(horizon);
-      return 18 * k / (M_PI * std::pow(delta, 5));
-    }
+    private:
+      double
+      spring(const double t) const
+      {
+        const double value = function->value(Point<3>(), t);
+        AssertThrow(std::isfinite(value) && value >= 0,
+                    ExcMessage(function->text() + " (Contact models: Spring constant) gives " + std::to_string(value) +
+                               " at t = " + std::to_string(t) + ": it must be finite and not negative"));
+        return value;
+      }
 
-    void
-    compute_force(const ContactPoints &points, const unsigned int *first, const unsigned int *second,
-                  const std::size_t n, ContactOutput &out) const override
-    {
-      evaluate(points, first, second, n, k, out);
-    }
-
-  protected:
-    void
-    parse_common(ParameterHandler &prm, const std::string &path)
-    {
-      r_c     = prm.get_double("Contact radius");
-      horizon = prm.get_double("Horizon");
-      mu      = prm.get_double("Friction coefficient");
-      AssertThrow(r_c > 0, ExcMessage(path + "/Contact radius must be positive (it is " + prm.get("Contact radius") +
-                                      "): two points closer than it repel each other"));
-      AssertThrow(mu >= 0, ExcMessage(path + "/Friction coefficient must be 0 or positive (it is " +
-                                      prm.get("Friction coefficient") + ")"));
-    }
-
-    double
-    horizon_for(const double block_horizon) const
-    {
-      return horizon > 0 ? horizon : block_horizon;
-    }
-
-    void
-    evaluate(const ContactPoints &points, const unsigned int *first, const unsigned int *second, const std::size_t n,
-             const double spring, ContactOutput &out) const
-    {
-      if (mu > 0)
-        short_range_force<true>(points, first, second, n, spring, r_c, horizon, mu, out);
-      else
-        short_range_force<false>(points, first, second, n, spring, r_c, horizon, mu, out);
-    }
-
-    double k = 0, r_c = 0, horizon = 0, mu = 0;
-  };
-
-  class TimeDependentShortRangeForce : public ShortRangeForce
-  {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
-    {
-      prm.declare_entry("Spring constant", "0", Patterns::Anything(),
-                        "k(t) as a muparser expression in t (e.g. '1e9*min(1, t/1e-5)'): a contact that "
-                        "stiffens or softens in time (Peridigm's Time Dependent Short Range Force).");
-      declare_common(prm);
-    }
-
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
-    {
-      function = std::make_shared<Expression>(prm.get("Spring constant"), path + "/Spring constant");
-      parse_common(prm, path);
-    }
-
-    double
-    stiffness(const double horizon, const double time) const override
-    {
-      return 18 * spring(time) / (M_PI * std::pow(horizon_for(horizon), 5));
-    }
-
-    void
-    compute_force(const ContactPoints &points, const unsigned int *first, const unsigned int *second,
-                  const std::size_t n, ContactOutput &out) const override
-    {
-      evaluate(points, first, second, n, spring(points.time), out);
-    }
-
-  private:
-    double
-    spring(const double t) const
-    {
-      const double value = function->value(Point<3>(), t);
-      AssertThrow(std::isfinite(value) && value >= 0,
-                  ExcMessage(function->text() + " (Contact models: Spring constant) gives " + std::to_string(value) +
-                             " at t = " + std::to_string(t) + ": it must be finite and not negative"));
-      return value;
-    }
-
-    std::shared_ptr<Expression> function;
-  };
+      std::shared_ptr<Expression> function;
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(ContactModel, ShortRangeForce, "Short range force",
                     "Silling and Askari's repulsive spring between points closer than the contact radius, "

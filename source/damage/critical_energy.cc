@@ -50,120 +50,123 @@ namespace perideal
 {
   using namespace dealii;
 
-  class CriticalEnergy : public DamageModel
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class CriticalEnergy : public DamageModel
     {
-      prm.declare_entry("Critical energy release rate", "0", Patterns::Double(),
-                        "G_c > 0: a stretched bond breaks when its energy (for Elastic plastic, Viscoelastic and "
-                        "the correspondence models: the work done on it, stored and dissipated) exceeds "
-                        "w_c = 4 G_c / (pi horizon^4).");
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Critical energy release rate", "0", Patterns::Double(),
+                          "G_c > 0: a stretched bond breaks when its energy (for Elastic plastic, Viscoelastic and "
+                          "the correspondence models: the work done on it, stored and dissipated) exceeds "
+                          "w_c = 4 G_c / (pi horizon^4).");
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path_) override
-    {
-      path         = path_;
-      release_rate = prm.get_double("Critical energy release rate");
-      AssertThrow(release_rate > 0, ExcMessage(path + "/Critical energy release rate must be positive, got " +
-                                               prm.get("Critical energy release rate")));
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path_) override
+      {
+        path         = path_;
+        release_rate = prm.get_double("Critical energy release rate");
+        AssertThrow(release_rate > 0, ExcMessage(path + "/Critical energy release rate must be positive, got " +
+                                                 prm.get("Critical energy release rate")));
+      }
 
-    bool
-    uses_bond_energy() const override
-    {
-      return true;
-    }
+      bool
+      uses_bond_energy() const override
+      {
+        return true;
+      }
 
-    void
-    initialize(const Material &material_, const double horizon) override
-    {
-      AssertThrow(material_.has_bond_energy(),
-                  ExcMessage(path + ": Critical energy breaks a bond by its energy, which this block's material "
-                                    "does not define"));
-      material        = &material_;
-      critical_energy = 4 * release_rate / (M_PI * std::pow(horizon, 4));
-    }
+      void
+      initialize(const Material &material_, const double horizon) override
+      {
+        AssertThrow(material_.has_bond_energy(),
+                    ExcMessage(path + ": Critical energy breaks a bond by its energy, which this block's material "
+                                      "does not define"));
+        material        = &material_;
+        critical_energy = 4 * release_rate / (M_PI * std::pow(horizon, 4));
+      }
 
-    std::vector<PointField>
-    point_fields() const override
-    {
-      return {{"critical_energy_ratio", FieldUse::local, 1, "Critical energy ratio"}};
-    }
+      std::vector<PointField>
+      point_fields() const override
+      {
+        return {{"critical_energy_ratio", FieldUse::local, 1, "Critical energy ratio"}};
+      }
 
-    bool
-    horizon_dependent() const override
-    {
-      return true;
-    }
+      bool
+      horizon_dependent() const override
+      {
+        return true;
+      }
 
-    std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
-    {
-      std::size_t n = 0;
-      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-        n = update<decltype(periodic)::value>(state, points, damage.broken);
-      });
-      return n;
-    }
+      std::size_t
+      update(const ModelState &state, const std::vector<unsigned int> &points, const BondDamageArrays &damage) const override
+      {
+        std::size_t n = 0;
+        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+          n = update<decltype(periodic)::value>(state, points, damage.broken);
+        });
+        return n;
+      }
 
-    std::string
-    describe() const override
-    {
-      std::ostringstream out;
-      out << "critical energy w_c = " << std::setprecision(6) << critical_energy << " (G_c = " << release_rate
-          << ")";
-      return out.str();
-    }
+      std::string
+      describe() const override
+      {
+        std::ostringstream out;
+        out << "critical energy w_c = " << std::setprecision(6) << critical_energy << " (G_c = " << release_rate
+            << ")";
+        return out.str();
+      }
 
-  private:
-    std::string         path;
-    double              release_rate = 0, critical_energy = 0;
-    const Material     *material = nullptr;
-    mutable std::vector<double> energy; // one family's bond energies; grows to the largest family
+    private:
+      std::string         path;
+      double              release_rate = 0, critical_energy = 0;
+      const Material     *material = nullptr;
+      mutable std::vector<double> energy; // one family's bond energies; grows to the largest family
 
-    template <bool periodic>
-    std::size_t
-    update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const
-    {
-      const double *X     = state.cloud.X.data();
-      double       *ratio = state.fields.get("critical_energy_ratio").begin();
-      std::size_t   n     = 0;
-      for (const unsigned int i : points)
-        {
-          const std::size_t first = state.bonds.offsets[i], size = state.bonds.offsets[i + 1] - first;
-          if (energy.size() < size)
-            energy.resize(size);
-          material->bond_energies(state, i, energy.data());
-          // Only a bond above the point's largest ratio so far can break or
-          // raise it (ratios of bonds that did not break are <= 1), so the
-          // test for tension, which needs the bond's lengths, runs for few.
-          const BondOrigin origin(X, state.u, i);
-          double           largest = 0;
-          for (std::size_t k = 0; k < size; ++k)
-            {
-              const std::size_t b = first + k;
-              if (broken[b] || !(energy[k] > largest * critical_energy))
-                continue;
-              double e[3], y[3];
-              bond_vectors<periodic>(X, state.u, state.bonds.neighbor[b], origin, state.cloud.periodicity, e, y);
-              if (!(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] > e[0] * e[0] + e[1] * e[1] + e[2] * e[2]))
-                continue; // compression breaks nothing
-              if (energy[k] > critical_energy)
-                {
-                  broken[b] = 1;
-                  ++n;
-                }
-              else
-                largest = energy[k] / critical_energy;
-            }
-          ratio[i] = largest;
-        }
-      return n;
-    }
-  };
+      template <bool periodic>
+      std::size_t
+      update(const ModelState &state, const std::vector<unsigned int> &points, std::uint8_t *broken) const
+      {
+        const double *X     = state.cloud.X.data();
+        double       *ratio = state.fields.get("critical_energy_ratio").begin();
+        std::size_t   n     = 0;
+        for (const unsigned int i : points)
+          {
+            const std::size_t first = state.bonds.offsets[i], size = state.bonds.offsets[i + 1] - first;
+            if (energy.size() < size)
+              energy.resize(size);
+            material->bond_energies(state, i, energy.data());
+            // Only a bond above the point's largest ratio so far can break or
+            // raise it (ratios of bonds that did not break are <= 1), so the
+            // test for tension, which needs the bond's lengths, runs for few.
+            const BondOrigin origin(X, state.u, i);
+            double           largest = 0;
+            for (std::size_t k = 0; k < size; ++k)
+              {
+                const std::size_t b = first + k;
+                if (broken[b] || !(energy[k] > largest * critical_energy))
+                  continue;
+                double e[3], y[3];
+                bond_vectors<periodic>(X, state.u, state.bonds.neighbor[b], origin, state.cloud.periodicity, e, y);
+                if (!(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] > e[0] * e[0] + e[1] * e[1] + e[2] * e[2]))
+                  continue; // compression breaks nothing
+                if (energy[k] > critical_energy)
+                  {
+                    broken[b] = 1;
+                    ++n;
+                  }
+                else
+                  largest = energy[k] / critical_energy;
+              }
+            ratio[i] = largest;
+          }
+        return n;
+      }
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(DamageModel, CriticalEnergy, "Critical energy",
                     "A stretched bond breaks when its energy (the work of its pairwise force along its extension, "

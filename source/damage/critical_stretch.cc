@@ -26,67 +26,70 @@ namespace perideal
 {
   using namespace dealii;
 
-  class CriticalStretch : public StretchCriterion
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class CriticalStretch : public StretchCriterion
     {
-      prm.declare_entry("Critical stretch", "0", Patterns::Double(),
-                        "s_c. 0: derive it from the critical energy release rate.");
-      prm.declare_entry("Critical energy release rate", "0", Patterns::Double(),
-                        "G_c, used when Critical stretch is 0: s_c = sqrt(5 G_c / (9 K delta)).");
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Critical stretch", "0", Patterns::Double(),
+                          "s_c. 0: derive it from the critical energy release rate.");
+        prm.declare_entry("Critical energy release rate", "0", Patterns::Double(),
+                          "G_c, used when Critical stretch is 0: s_c = sqrt(5 G_c / (9 K delta)).");
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path_) override
-    {
-      path         = path_;
-      given_sc     = prm.get_double("Critical stretch");
-      release_rate = prm.get_double("Critical energy release rate");
-      // Checked here, not by the key's pattern: the parser's message names no section.
-      for (const auto &[key, value] : {std::make_pair("Critical stretch", given_sc),
-                                       std::make_pair("Critical energy release rate", release_rate)})
-        AssertThrow(value >= 0, ExcMessage(path + "/" + key + " must be >= 0 (0: not given), got " + prm.get(key)));
-      AssertThrow(given_sc > 0 || release_rate > 0,
-                  ExcMessage(path + ": set 'Critical stretch' or 'Critical energy "
-                                    "release rate' to a positive value"));
-      // With both, the release rate was silently ignored.
-      AssertThrow(given_sc == 0 || release_rate == 0,
-                  ExcMessage(path + ": both 'Critical stretch' (" + prm.get("Critical stretch") +
-                             ") and 'Critical energy release rate' (" + prm.get("Critical energy release rate") +
-                             ") are set, and the release rate would be ignored: set one of them (the "
-                             "stretch follows from the release rate as sqrt(5 G_c / (9 K horizon)))"));
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path_) override
+      {
+        path         = path_;
+        given_sc     = prm.get_double("Critical stretch");
+        release_rate = prm.get_double("Critical energy release rate");
+        // Checked here, not by the key's pattern: the parser's message names no section.
+        for (const auto &[key, value] : {std::make_pair("Critical stretch", given_sc),
+                                         std::make_pair("Critical energy release rate", release_rate)})
+          AssertThrow(value >= 0, ExcMessage(path + "/" + key + " must be >= 0 (0: not given), got " + prm.get(key)));
+        AssertThrow(given_sc > 0 || release_rate > 0,
+                    ExcMessage(path + ": set 'Critical stretch' or 'Critical energy "
+                                      "release rate' to a positive value"));
+        // With both, the release rate was silently ignored.
+        AssertThrow(given_sc == 0 || release_rate == 0,
+                    ExcMessage(path + ": both 'Critical stretch' (" + prm.get("Critical stretch") +
+                               ") and 'Critical energy release rate' (" + prm.get("Critical energy release rate") +
+                               ") are set, and the release rate would be ignored: set one of them (the "
+                               "stretch follows from the release rate as sqrt(5 G_c / (9 K horizon)))"));
+      }
 
-    void
-    initialize(const Material &material, const double horizon) override
-    {
-      sc = given_sc > 0 ?
-             given_sc :
-             std::sqrt(5 * release_rate / (9 * material.bulk_modulus() * horizon));
-    }
+      void
+      initialize(const Material &material, const double horizon) override
+      {
+        sc = given_sc > 0 ?
+               given_sc :
+               std::sqrt(5 * release_rate / (9 * material.bulk_modulus() * horizon));
+      }
 
-    double
-    critical_stretch(const double) const override
-    {
-      return sc;
-    }
+      double
+      critical_stretch(const double) const override
+      {
+        return sc;
+      }
 
-    std::string
-    describe() const override
-    {
-      std::ostringstream out;
-      out << "critical stretch s_c = " << std::setprecision(6) << sc;
-      if (given_sc == 0)
-        out << " (from G_c = " << release_rate << ")";
-      return out.str();
-    }
+      std::string
+      describe() const override
+      {
+        std::ostringstream out;
+        out << "critical stretch s_c = " << std::setprecision(6) << sc;
+        if (given_sc == 0)
+          out << " (from G_c = " << release_rate << ")";
+        return out.str();
+      }
 
-  private:
-    std::string path;
-    double      given_sc = 0, release_rate = 0, sc = 0;
-  };
+    private:
+      std::string path;
+      double      given_sc = 0, release_rate = 0, sc = 0;
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(DamageModel, CriticalStretch, "Critical stretch",
                     "Bond breaks when its stretch exceeds s_c (given, or from G_c). A bond between "

@@ -20,59 +20,62 @@ namespace perideal
 {
   using namespace dealii;
 
-  class InterfaceAware : public StretchCriterion
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class InterfaceAware : public StretchCriterion
     {
-      prm.declare_entry("Critical stretch", "0", Patterns::Double(),
-                        "s_c > 0 of the bonds within the block.");
-      prm.declare_entry("Interface critical stretch", "0", Patterns::Double(),
-                        "s_i of the bonds from the block to other blocks; a bond between two blocks breaks at "
-                        "the smaller of the two blocks' interface values (a Critical stretch block's is its "
-                        "s_c). 0: s_c, Peridigm's rule.");
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Critical stretch", "0", Patterns::Double(),
+                          "s_c > 0 of the bonds within the block.");
+        prm.declare_entry("Interface critical stretch", "0", Patterns::Double(),
+                          "s_i of the bonds from the block to other blocks; a bond between two blocks breaks at "
+                          "the smaller of the two blocks' interface values (a Critical stretch block's is its "
+                          "s_c). 0: s_c, Peridigm's rule.");
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
-    {
-      sc = prm.get_double("Critical stretch");
-      si = prm.get_double("Interface critical stretch");
-      AssertThrow(sc > 0, ExcMessage(path + "/Critical stretch must be positive, got " + prm.get("Critical stretch")));
-      AssertThrow(si >= 0, ExcMessage(path + "/Interface critical stretch must be >= 0 (0: the Critical stretch), got " +
-                                      prm.get("Interface critical stretch")));
-      if (si == 0)
-        si = sc;
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        sc = prm.get_double("Critical stretch");
+        si = prm.get_double("Interface critical stretch");
+        AssertThrow(sc > 0, ExcMessage(path + "/Critical stretch must be positive, got " + prm.get("Critical stretch")));
+        AssertThrow(si >= 0, ExcMessage(path + "/Interface critical stretch must be >= 0 (0: the Critical stretch), got " +
+                                        prm.get("Interface critical stretch")));
+        if (si == 0)
+          si = sc;
+      }
 
-    void
-    initialize(const Material &, const double) override
-    {}
+      void
+      initialize(const Material &, const double) override
+      {}
 
-    double
-    critical_stretch(const double) const override
-    {
-      return sc;
-    }
+      double
+      critical_stretch(const double) const override
+      {
+        return sc;
+      }
 
-    double
-    interface_critical_stretch(const double) const override
-    {
-      return si;
-    }
+      double
+      interface_critical_stretch(const double) const override
+      {
+        return si;
+      }
 
-    std::string
-    describe() const override
-    {
-      std::ostringstream out;
-      out << "interface aware: s_c = " << std::setprecision(6) << sc << " within, " << si << " to other blocks";
-      return out.str();
-    }
+      std::string
+      describe() const override
+      {
+        std::ostringstream out;
+        out << "interface aware: s_c = " << std::setprecision(6) << sc << " within, " << si << " to other blocks";
+        return out.str();
+      }
 
-  private:
-    double sc = 0, si = 0;
-  };
+    private:
+      double sc = 0, si = 0;
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(DamageModel, InterfaceAware, "Interface aware",
                     "Critical stretch s_c within the block and s_i to other blocks (Peridigm's Interface Aware, "

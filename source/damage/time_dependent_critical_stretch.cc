@@ -23,68 +23,71 @@ namespace perideal
 {
   using namespace dealii;
 
-  class TimeDependentCriticalStretch : public StretchCriterion
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class TimeDependentCriticalStretch : public StretchCriterion
     {
-      prm.declare_entry("Critical stretch", "", Patterns::Anything(),
-                        "s_c(t) > 0: an expression in the time t (muparser, as the boundary conditions), "
-                        "e.g. 0.002 * (1 - t / 1e-3) + 1e-4. Evaluated at the time of each evaluation "
-                        "that may break bonds; a value that is not finite or not positive stops the run.");
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Critical stretch", "", Patterns::Anything(),
+                          "s_c(t) > 0: an expression in the time t (muparser, as the boundary conditions), "
+                          "e.g. 0.002 * (1 - t / 1e-3) + 1e-4. Evaluated at the time of each evaluation "
+                          "that may break bonds; a value that is not finite or not positive stops the run.");
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
-    {
-      where      = path + "/Critical stretch";
-      expression = std::make_unique<Expression>(Utilities::trim(prm.get("Critical stretch")), where, 0,
-                                                std::vector<std::string>{"t"});
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        where      = path + "/Critical stretch";
+        expression = std::make_unique<Expression>(Utilities::trim(prm.get("Critical stretch")), where, 0,
+                                                  std::vector<std::string>{"t"});
+      }
 
-    void
-    initialize(const Material &, const double) override
-    {}
+      void
+      initialize(const Material &, const double) override
+      {}
 
-    double
-    critical_stretch(const double t) const override
-    {
-      // The same t on every rank, so every rank stops alike.
-      const double sc = expression->value(Point<3>(t, 0, 0), t);
-      AssertThrow(std::isfinite(sc) && sc > 0,
-                  ExcMessage(where + ": '" + expression->text() + "' gives s_c = " + to_text(sc) + " at t = " +
-                             to_text(t) + "; the critical stretch must be positive and finite at every time "
-                             "of the run"));
-      return sc;
-    }
+      double
+      critical_stretch(const double t) const override
+      {
+        // The same t on every rank, so every rank stops alike.
+        const double sc = expression->value(Point<3>(t, 0, 0), t);
+        AssertThrow(std::isfinite(sc) && sc > 0,
+                    ExcMessage(where + ": '" + expression->text() + "' gives s_c = " + to_text(sc) + " at t = " +
+                               to_text(t) + "; the critical stretch must be positive and finite at every time "
+                               "of the run"));
+        return sc;
+      }
 
-    bool
-    time_dependent() const override
-    {
-      return true;
-    }
+      bool
+      time_dependent() const override
+      {
+        return true;
+      }
 
-    std::string
-    describe() const override
-    {
-      std::ostringstream out;
-      out << "time dependent critical stretch s_c(t) = " << expression->text();
-      return out.str();
-    }
+      std::string
+      describe() const override
+      {
+        std::ostringstream out;
+        out << "time dependent critical stretch s_c(t) = " << expression->text();
+        return out.str();
+      }
 
-  private:
-    std::string                 where;
-    std::unique_ptr<Expression> expression;
+    private:
+      std::string                 where;
+      std::unique_ptr<Expression> expression;
 
-    static std::string
-    to_text(const double x)
-    {
-      std::ostringstream out;
-      out << x;
-      return out.str();
-    }
-  };
+      static std::string
+      to_text(const double x)
+      {
+        std::ostringstream out;
+        out << x;
+        return out.str();
+      }
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(DamageModel, TimeDependentCriticalStretch, "Time dependent critical stretch",
                     "Bond breaks when its stretch exceeds s_c(t), an expression in the time t (Peridigm's User "

@@ -5,23 +5,26 @@ namespace perideal
 {
   using namespace dealii;
 
-  class AllRegion : public RegionSelector
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &)
-    {}
-
-    void
-    parse_parameters(ParameterHandler &, const std::string &) override
-    {}
-
-    bool
-    contains(const Point<dim> &, const DoFHandler<dim>::active_cell_iterator &) const override
+    class AllRegion : public RegionSelector
     {
-      return true;
-    }
-  };
+    public:
+      static void
+      declare_parameters(ParameterHandler &)
+      {}
+
+      void
+      parse_parameters(ParameterHandler &, const std::string &) override
+      {}
+
+      bool
+      contains(const Point<dim> &, const DoFHandler<dim>::active_cell_iterator &) const override
+      {
+        return true;
+      }
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(RegionSelector, AllRegion, "All", "every point.")
 } // namespace perideal

@@ -53,168 +53,171 @@ namespace perideal
 {
   using namespace dealii;
 
-  class ElasticPlasticCorrespondence : public CorrespondenceMaterial
+  namespace
   {
-  public:
-    ElasticPlasticCorrespondence()
-      : CorrespondenceMaterial("Elastic plastic correspondence")
-    {}
-
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class ElasticPlasticCorrespondence : public CorrespondenceMaterial
     {
-      declare_kinematics_parameters(prm);
-      prm.declare_entry("Yield stress", "0", Patterns::Double(),
-                        "Initial von Mises yield stress Y0 > 0 (Peridigm's 'Yield Stress').");
-      prm.declare_entry("Hardening modulus", "0", Patterns::Double(),
-                        "Linear isotropic hardening H >= 0: Y = Y0 + H eps_p, eps_p the equivalent plastic "
-                        "strain (uniaxial stress: tangent modulus E H / (E + H)); 0: perfectly plastic.");
-    }
+    public:
+      ElasticPlasticCorrespondence()
+        : CorrespondenceMaterial("Elastic plastic correspondence")
+      {}
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path_) override
-    {
-      parse_kinematics_parameters(prm, path_);
-      Y0 = prm.get_double("Yield stress");
-      H  = prm.get_double("Hardening modulus");
-      require_positive(Y0, path + "/Yield stress");
-      AssertThrow(H >= 0 && std::isfinite(H),
-                  ExcMessage(path + "/Hardening modulus must be >= 0 (0: perfectly plastic), got " +
-                             prm.get("Hardening modulus")));
-    }
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        declare_kinematics_parameters(prm);
+        prm.declare_entry("Yield stress", "0", Patterns::Double(),
+                          "Initial von Mises yield stress Y0 > 0 (Peridigm's 'Yield Stress').");
+        prm.declare_entry("Hardening modulus", "0", Patterns::Double(),
+                          "Linear isotropic hardening H >= 0: Y = Y0 + H eps_p, eps_p the equivalent plastic "
+                          "strain (uniaxial stress: tangent modulus E H / (E + H)); 0: perfectly plastic.");
+      }
 
-    std::vector<PointField>
-    point_fields() const override
-    {
-      std::vector<PointField> f = CorrespondenceMaterial::point_fields();
-      f.push_back({"epc_stress", FieldUse::history, 6});  // tau^, unrotated Kirchhoff
-      f.push_back({"epc_stretch", FieldUse::history, 6}); // U - I
-      // The fields of Elastic plastic: one output variable for both models.
-      f.push_back({"eps_plastic_strain", FieldUse::history, 1, "Equivalent plastic strain"});
-      f.push_back({"eps_dissipation", FieldUse::history, 1, "Plastic dissipation density", true});
-      return f;
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path_) override
+      {
+        parse_kinematics_parameters(prm, path_);
+        Y0 = prm.get_double("Yield stress");
+        H  = prm.get_double("Hardening modulus");
+        require_positive(Y0, path + "/Yield stress");
+        AssertThrow(H >= 0 && std::isfinite(H),
+                    ExcMessage(path + "/Hardening modulus must be >= 0 (0: perfectly plastic), got " +
+                               prm.get("Hardening modulus")));
+      }
 
-    void
-    compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      const double *tau_N = state.fields.old("epc_stress").begin();
-      const double *U_N   = state.fields.old("epc_stretch").begin();
-      const double *ep_N  = state.fields.old("eps_plastic_strain").begin();
-      const double *D_N   = state.fields.old("eps_dissipation").begin();
-      double       *tau   = state.fields.get("epc_stress").begin();
-      double       *U     = state.fields.get("epc_stretch").begin();
-      double       *ep    = state.fields.get("eps_plastic_strain").begin();
-      double       *D     = state.fields.get("eps_dissipation").begin();
-      compute_deformation(
-        state,
-        points,
-        [&](const unsigned int i, const double *F, const double theta, double *P, double *sigma, double &W) {
-          ep[i] = ep_N[i];
-          D[i]  = D_N[i];
-          W     = stress(F, theta, tau_N + 6 * i, U_N + 6 * i, tau + 6 * i, U + 6 * i, ep[i], D[i], P, sigma);
-        },
-        [&](const unsigned int i) {
-          for (unsigned int k = 0; k < 6; ++k)
-            tau[6 * i + k] = tau_N[6 * i + k], U[6 * i + k] = U_N[6 * i + k];
-          ep[i] = ep_N[i];
-          D[i]  = D_N[i];
-        });
-    }
+      std::vector<PointField>
+      point_fields() const override
+      {
+        std::vector<PointField> f = CorrespondenceMaterial::point_fields();
+        f.push_back({"epc_stress", FieldUse::history, 6});  // tau^, unrotated Kirchhoff
+        f.push_back({"epc_stretch", FieldUse::history, 6}); // U - I
+        // The fields of Elastic plastic: one output variable for both models.
+        f.push_back({"eps_plastic_strain", FieldUse::history, 1, "Equivalent plastic strain"});
+        f.push_back({"eps_dissipation", FieldUse::history, 1, "Plastic dissipation density", true});
+        return f;
+      }
 
-  private:
-    double Y0 = 0, H = 0;
+      void
+      compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        const double *tau_N = state.fields.old("epc_stress").begin();
+        const double *U_N   = state.fields.old("epc_stretch").begin();
+        const double *ep_N  = state.fields.old("eps_plastic_strain").begin();
+        const double *D_N   = state.fields.old("eps_dissipation").begin();
+        double       *tau   = state.fields.get("epc_stress").begin();
+        double       *U     = state.fields.get("epc_stretch").begin();
+        double       *ep    = state.fields.get("eps_plastic_strain").begin();
+        double       *D     = state.fields.get("eps_dissipation").begin();
+        compute_deformation(
+          state,
+          points,
+          [&](const unsigned int i, const double *F, const double theta, double *P, double *sigma, double &W) {
+            ep[i] = ep_N[i];
+            D[i]  = D_N[i];
+            W     = stress(F, theta, tau_N + 6 * i, U_N + 6 * i, tau + 6 * i, U + 6 * i, ep[i], D[i], P, sigma);
+          },
+          [&](const unsigned int i) {
+            for (unsigned int k = 0; k < 6; ++k)
+              tau[6 * i + k] = tau_N[6 * i + k], U[6 * i + k] = U_N[6 * i + k];
+            ep[i] = ep_N[i];
+            D[i]  = D_N[i];
+          });
+      }
 
-    /// Symmetric 6-vector (xx yy zz xy yz xz) <-> row-major 3x3.
-    static void
-    full(const double *s, double *A)
-    {
-      A[0] = s[0], A[4] = s[1], A[8] = s[2];
-      A[1] = A[3] = s[3], A[5] = A[7] = s[4], A[2] = A[6] = s[5];
-    }
+    private:
+      double Y0 = 0, H = 0;
 
-    /// The step N -> NP1 of one point (see the top): from F, the thermal
-    /// stretch theta and the history at N (tau^_N, U_N - I), the history at
-    /// NP1 (tau^, U - I; eps_p and D updated in place), P and the Cauchy
-    /// stress; returns the stored energy density W.
-    double
-    stress(const double *F,
-           const double  theta,
-           const double *tau_N,
-           const double *stretch_N,
-           double       *tau,
-           double       *stretch,
-           double       &ep,
-           double       &D,
-           double       *P,
-           double       *sigma) const
-    {
-      using namespace correspondence;
-      double Fe[9], R[9], Un[9], Uinv[9];
-      for (unsigned int k = 0; k < 9; ++k)
-        Fe[k] = F[k] / theta;
-      polar_decomposition(Fe, R, Un, Uinv);
+      /// Symmetric 6-vector (xx yy zz xy yz xz) <-> row-major 3x3.
+      static void
+      full(const double *s, double *A)
+      {
+        A[0] = s[0], A[4] = s[1], A[8] = s[2];
+        A[1] = A[3] = s[3], A[5] = A[7] = s[4], A[2] = A[6] = s[5];
+      }
 
-      // De = sym(dU U_mid^-1), dU from U - I (no cancellation against I).
-      double dU[9], Umid[9], Uold[9];
-      full(stretch_N, Uold);
-      for (unsigned int k = 0; k < 9; ++k)
-        {
-          const double I = k % 4 == 0 ? 1.0 : 0.0;
-          dU[k]          = (Un[k] - I) - Uold[k];
-          Umid[k]        = I + 0.5 * (Uold[k] + (Un[k] - I));
-        }
-      const double adj[9] = {Umid[4] * Umid[8] - Umid[5] * Umid[7], Umid[2] * Umid[7] - Umid[1] * Umid[8],
-                             Umid[1] * Umid[5] - Umid[2] * Umid[4], Umid[5] * Umid[6] - Umid[3] * Umid[8],
-                             Umid[0] * Umid[8] - Umid[2] * Umid[6], Umid[2] * Umid[3] - Umid[0] * Umid[5],
-                             Umid[3] * Umid[7] - Umid[4] * Umid[6], Umid[1] * Umid[6] - Umid[0] * Umid[7],
-                             Umid[0] * Umid[4] - Umid[1] * Umid[3]};
-      const double det    = Umid[0] * adj[0] + Umid[1] * adj[3] + Umid[2] * adj[6];
-      double       L[9];
-      multiply(dU, adj, L); // dU adj(U_mid) = det(U_mid) dU U_mid^-1
-      const double s = 1 / det;
-      const double De[6] = {L[0] * s, L[4] * s, L[8] * s, 0.5 * (L[1] + L[3]) * s, 0.5 * (L[5] + L[7]) * s,
-                            0.5 * (L[2] + L[6]) * s};
-      for (unsigned int k = 0; k < 6; ++k)
-        stretch[k] = k < 3 ? Un[4 * k] - 1 : Un[k == 3 ? 1 : k == 4 ? 5 : 2];
+      /// The step N -> NP1 of one point (see the top): from F, the thermal
+      /// stretch theta and the history at N (tau^_N, U_N - I), the history at
+      /// NP1 (tau^, U - I; eps_p and D updated in place), P and the Cauchy
+      /// stress; returns the stored energy density W.
+      double
+      stress(const double *F,
+             const double  theta,
+             const double *tau_N,
+             const double *stretch_N,
+             double       *tau,
+             double       *stretch,
+             double       &ep,
+             double       &D,
+             double       *P,
+             double       *sigma) const
+      {
+        using namespace correspondence;
+        double Fe[9], R[9], Un[9], Uinv[9];
+        for (unsigned int k = 0; k < 9; ++k)
+          Fe[k] = F[k] / theta;
+        polar_decomposition(Fe, R, Un, Uinv);
 
-      // Elastic trial and radial return.
-      const double lambda = K - 2 * G / 3, trace = De[0] + De[1] + De[2];
-      double       t[6];
-      for (unsigned int k = 0; k < 6; ++k)
-        t[k] = tau_N[k] + 2 * G * De[k] + (k < 3 ? lambda * trace : 0.0);
-      const double p = (t[0] + t[1] + t[2]) / 3;
-      double       dev[6];
-      for (unsigned int k = 0; k < 6; ++k)
-        dev[k] = t[k] - (k < 3 ? p : 0.0);
-      const double ss   = dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2] +
-                        2 * (dev[3] * dev[3] + dev[4] * dev[4] + dev[5] * dev[5]);
-      const double q_tr = std::sqrt(1.5 * ss), Y_N = Y0 + H * ep;
-      double       scale = 1;
-      if (q_tr > Y_N)
-        {
-          const double a = (q_tr - Y_N) / (3 * G + H);
-          scale          = (Y_N + H * a) / q_tr;
-          D += (Y_N + 0.5 * H * a) * a;
-          ep += a;
-        }
-      for (unsigned int k = 0; k < 6; ++k)
-        tau[k] = scale * dev[k] + (k < 3 ? p : 0.0);
+        // De = sym(dU U_mid^-1), dU from U - I (no cancellation against I).
+        double dU[9], Umid[9], Uold[9];
+        full(stretch_N, Uold);
+        for (unsigned int k = 0; k < 9; ++k)
+          {
+            const double I = k % 4 == 0 ? 1.0 : 0.0;
+            dU[k]          = (Un[k] - I) - Uold[k];
+            Umid[k]        = I + 0.5 * (Uold[k] + (Un[k] - I));
+          }
+        const double adj[9] = {Umid[4] * Umid[8] - Umid[5] * Umid[7], Umid[2] * Umid[7] - Umid[1] * Umid[8],
+                               Umid[1] * Umid[5] - Umid[2] * Umid[4], Umid[5] * Umid[6] - Umid[3] * Umid[8],
+                               Umid[0] * Umid[8] - Umid[2] * Umid[6], Umid[2] * Umid[3] - Umid[0] * Umid[5],
+                               Umid[3] * Umid[7] - Umid[4] * Umid[6], Umid[1] * Umid[6] - Umid[0] * Umid[7],
+                               Umid[0] * Umid[4] - Umid[1] * Umid[3]};
+        const double det    = Umid[0] * adj[0] + Umid[1] * adj[3] + Umid[2] * adj[6];
+        double       L[9];
+        multiply(dU, adj, L); // dU adj(U_mid) = det(U_mid) dU U_mid^-1
+        const double s = 1 / det;
+        const double De[6] = {L[0] * s, L[4] * s, L[8] * s, 0.5 * (L[1] + L[3]) * s, 0.5 * (L[5] + L[7]) * s,
+                              0.5 * (L[2] + L[6]) * s};
+        for (unsigned int k = 0; k < 6; ++k)
+          stretch[k] = k < 3 ? Un[4 * k] - 1 : Un[k == 3 ? 1 : k == 4 ? 5 : 2];
 
-      // P = R tau^ U^-1 / theta, sigma = R tau^ R^T / det F.
-      double T[9], RT[9], TUinv[9];
-      full(tau, T);
-      multiply(R, T, RT);
-      multiply(RT, Uinv, TUinv);
-      for (unsigned int k = 0; k < 9; ++k)
-        P[k] = TUinv[k] / theta;
-      const double J = determinant(F);
-      for (unsigned int a = 0; a < 3; ++a)
-        for (unsigned int b = 0; b < 3; ++b)
-          sigma[3 * a + b] = (RT[3 * a] * R[3 * b] + RT[3 * a + 1] * R[3 * b + 1] + RT[3 * a + 2] * R[3 * b + 2]) / J;
-      return p * p / (2 * K) + scale * scale * ss / (4 * G);
-    }
-  };
+        // Elastic trial and radial return.
+        const double lambda = K - 2 * G / 3, trace = De[0] + De[1] + De[2];
+        double       t[6];
+        for (unsigned int k = 0; k < 6; ++k)
+          t[k] = tau_N[k] + 2 * G * De[k] + (k < 3 ? lambda * trace : 0.0);
+        const double p = (t[0] + t[1] + t[2]) / 3;
+        double       dev[6];
+        for (unsigned int k = 0; k < 6; ++k)
+          dev[k] = t[k] - (k < 3 ? p : 0.0);
+        const double ss   = dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2] +
+                          2 * (dev[3] * dev[3] + dev[4] * dev[4] + dev[5] * dev[5]);
+        const double q_tr = std::sqrt(1.5 * ss), Y_N = Y0 + H * ep;
+        double       scale = 1;
+        if (q_tr > Y_N)
+          {
+            const double a = (q_tr - Y_N) / (3 * G + H);
+            scale          = (Y_N + H * a) / q_tr;
+            D += (Y_N + 0.5 * H * a) * a;
+            ep += a;
+          }
+        for (unsigned int k = 0; k < 6; ++k)
+          tau[k] = scale * dev[k] + (k < 3 ? p : 0.0);
+
+        // P = R tau^ U^-1 / theta, sigma = R tau^ R^T / det F.
+        double T[9], RT[9], TUinv[9];
+        full(tau, T);
+        multiply(R, T, RT);
+        multiply(RT, Uinv, TUinv);
+        for (unsigned int k = 0; k < 9; ++k)
+          P[k] = TUinv[k] / theta;
+        const double J = determinant(F);
+        for (unsigned int a = 0; a < 3; ++a)
+          for (unsigned int b = 0; b < 3; ++b)
+            sigma[3 * a + b] = (RT[3 * a] * R[3 * b] + RT[3 * a + 1] * R[3 * b + 1] + RT[3 * a + 2] * R[3 * b + 2]) / J;
+        return p * p / (2 * K) + scale * scale * ss / (4 * G);
+      }
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(Material, ElasticPlasticCorrespondence, "Elastic plastic correspondence",
                     "Non-ordinary state-based correspondence model with J2 plasticity: the nonlocal "

@@ -47,617 +47,620 @@ namespace perideal
 {
   using namespace dealii;
 
-  class LPS : public Material
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class LPS : public Material
     {
-      prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      declare_elastic_constants(prm);
-      declare_thermal_expansion(prm);
-      prm.declare_entry("Influence function", "1", Patterns::Anything(),
-                        "omega as a muparser expression in r = |xi|/horizon, e.g. "
-                        "'1', '1/r', 'exp(-r*r)'. Non-constant functions are "
-                        "evaluated once per bond at set-up and stored (8 bytes per bond).");
-      prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
-                        "Energy: scale each point's shear modulus by g = (m/15) / mean over the shears "
-                        "xy, yz, zx of (S2 - S1^2/m), S1 = sum_j omega xi_p xi_q V_j, S2 = sum_j omega "
-                        "xi_p^2 xi_q^2 / |xi|^2 V_j: the continuum's over the family's deviatoric energy "
-                        "density under pure shear (Le & Bobaru 2018's energy method). The dilatation "
-                        "needs none: with the weighted volume m summed over the actual family it is "
-                        "exact under any isotropic expansion. Free at run time.");
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
+        declare_elastic_constants(prm);
+        declare_thermal_expansion(prm);
+        prm.declare_entry("Influence function", "1", Patterns::Anything(),
+                          "omega as a muparser expression in r = |xi|/horizon, e.g. "
+                          "'1', '1/r', 'exp(-r*r)'. Non-constant functions are "
+                          "evaluated once per bond at set-up and stored (8 bytes per bond).");
+        prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
+                          "Energy: scale each point's shear modulus by g = (m/15) / mean over the shears "
+                          "xy, yz, zx of (S2 - S1^2/m), S1 = sum_j omega xi_p xi_q V_j, S2 = sum_j omega "
+                          "xi_p^2 xi_q^2 / |xi|^2 V_j: the continuum's over the family's deviatoric energy "
+                          "density under pure shear (Le & Bobaru 2018's energy method). The dilatation "
+                          "needs none: with the weighted volume m summed over the actual family it is "
+                          "exact under any isotropic expansion. Free at run time.");
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
-    {
-      rho = prm.get_double("Density");
-      require_positive(rho, path + "/Density");
-      const ElasticConstants moduli = parse_elastic_constants(prm, path);
-      K                 = moduli.K;
-      G                 = moduli.G;
-      thermal_expansion = parse_thermal_expansion(prm, path);
-      surface_correction = prm.get("Surface correction") == "Energy";
-      influence = std::make_unique<Expression>(prm.get("Influence function"),
-                                               path + "/Influence function",
-                                               0,
-                                               std::vector<std::string>{"r"});
-      constant_influence = true;
-      const double w1    = influence->value(Point<dim>(1, 0, 0), 0);
-      for (const double r : {0.0, 0.1, 0.3, 0.5, 0.7, 0.9})
-        if (influence->value(Point<dim>(r, 0, 0), 0) != w1)
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        rho = prm.get_double("Density");
+        require_positive(rho, path + "/Density");
+        const ElasticConstants moduli = parse_elastic_constants(prm, path);
+        K                 = moduli.K;
+        G                 = moduli.G;
+        thermal_expansion = parse_thermal_expansion(prm, path);
+        surface_correction = prm.get("Surface correction") == "Energy";
+        influence = std::make_unique<Expression>(prm.get("Influence function"),
+                                                 path + "/Influence function",
+                                                 0,
+                                                 std::vector<std::string>{"r"});
+        constant_influence = true;
+        const double w1    = influence->value(Point<dim>(1, 0, 0), 0);
+        for (const double r : {0.0, 0.1, 0.3, 0.5, 0.7, 0.9})
+          if (influence->value(Point<dim>(r, 0, 0), 0) != w1)
+            constant_influence = false;
+        omega0 = w1;
+        AssertThrow(std::isfinite(omega0) && (omega0 > 0 || !constant_influence),
+                    ExcMessage(path + "/Influence function must be positive"));
+      }
+
+      double
+      density() const override
+      {
+        return rho;
+      }
+      double
+      bulk_modulus() const override
+      {
+        return K;
+      }
+      double
+      thermal_expansion_coefficient() const override
+      {
+        return thermal_expansion;
+      }
+      double
+      shear_modulus() const override
+      {
+        return G;
+      }
+
+      void
+      initialize(const ModelState &state, const std::vector<unsigned int> &points) override
+      {
+        const double *V = state.cloud.volume.data();
+        // With partial volumes the per-bond omega carries beta_ij too: every
+        // family sum (m, theta, force, tangent, stable step) then weighs
+        // neighbor j with beta_ij V_j and nothing else changes.
+        const bool partial = !state.bonds.volume_fraction.empty();
+        // Different horizons: omega per bond and per half (zero where the bond
+        // is not in that end's family), so the kernels need no bit test.
+        halves = !state.bonds.family.empty();
+        if (partial || halves)
           constant_influence = false;
-      omega0 = w1;
-      AssertThrow(std::isfinite(omega0) && (omega0 > 0 || !constant_influence),
-                  ExcMessage(path + "/Influence function must be positive"));
-    }
+        if (!constant_influence)
+          omega.assign(state.bonds.n_bonds(), 0.0);
+        if (halves)
+          omega_other.assign(state.bonds.n_bonds(), 0.0);
+        VectorType &m     = state.fields.get("weighted_volume");
+        VectorType &beta  = state.fields.get("lps_beta");
+        VectorType &gamma = state.fields.get("lps_gamma");
+        VectorType &D     = state.fields.get("lps_coupling");
+        for (const unsigned int i : points)
+          {
+            double mi = 0, Ai = 0, S1[3] = {0, 0, 0}, S2[3] = {0, 0, 0};
+            for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+              {
+                const unsigned int j  = state.bonds.neighbor[b];
+                const auto         xi = state.cloud.bond_vector(i, j);
+                const double       ex = xi[0], ey = xi[1], ez = xi[2];
+                const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+                double             w  = omega0;
+                if (halves)
+                  {
+                    const double delta_j = state.bonds.block_horizon[state.cloud.block[j]];
+                    omega_other[b] = state.bonds.family[b] & Bonds::other_half ?
+                                       influence->value(Point<dim>(std::min(r0 / delta_j, 1.0), 0, 0), 0) :
+                                       0.0;
+                  }
+                if (!constant_influence)
+                  {
+                    // Partial volumes add bonds up to a cell radius beyond the
+                    // horizon; they take omega at the horizon.
+                    const double r = std::min(r0 / horizon, 1.0);
+                    w = influence->value(Point<dim>(r, 0, 0), 0);
+                    AssertThrow(std::isfinite(w) && w >= 0,
+                                ExcMessage(influence->key() + ": '" + influence->text() +
+                                           "' is negative or not finite at r = " + std::to_string(r)));
+                    if (partial)
+                      w *= state.bonds.volume_fraction[b];
+                    if (halves && !(state.bonds.family[b] & Bonds::own_half))
+                      w = 0;
+                    omega[b] = w;
+                  }
+                mi += w * r0 * r0 * V[j];
+                Ai += w * r0 * V[j];
+                if (surface_correction)
+                  {
+                    const double e[3] = {ex, ey, ez};
+                    for (unsigned int p = 0; p < 3; ++p)
+                      {
+                        const double pq = e[p] * e[(p + 1) % 3];
+                        S1[p] += w * pq * V[j];
+                        S2[p] += w * pq * pq / (r0 * r0) * V[j];
+                      }
+                  }
+              }
+            // m_i = 0 only for a virtual point of the FE coupling left without
+            // bonds (the core stops a run with any other point without bonds):
+            // it carries no energy and no force state.
+            const double inverse   = mi > 0 ? 1 / mi : 0.0;
+            // Surface correction of the shear modulus (see the top).
+            double g = 1;
+            if (surface_correction && mi > 0)
+              {
+                double deficit = 0;
+                for (unsigned int p = 0; p < 3; ++p)
+                  deficit += S2[p] - S1[p] * S1[p] * inverse;
+                if (deficit > 0)
+                  g = 3 * mi / 15 / deficit;
+              }
+            m.local_element(i)     = mi;
+            beta.local_element(i)  = 15 * g * G * inverse;
+            gamma.local_element(i) = (3 * K - 5 * g * G) * inverse;
+            D.local_element(i)     = std::abs(3 * K - 5 * g * G) * inverse * Ai * inverse;
+          }
+      }
 
-    double
-    density() const override
-    {
-      return rho;
-    }
-    double
-    bulk_modulus() const override
-    {
-      return K;
-    }
-    double
-    thermal_expansion_coefficient() const override
-    {
-      return thermal_expansion;
-    }
-    double
-    shear_modulus() const override
-    {
-      return G;
-    }
+      std::vector<PointField>
+      point_fields() const override
+      {
+        return {{"dilatation", FieldUse::local, 1, "Dilatation"},
+                {"weighted_volume", FieldUse::constant, 1, "Weighted volume"},
+                {"lps_beta", FieldUse::constant},
+                {"lps_gamma", FieldUse::constant},
+                {"lps_coupling", FieldUse::constant},
+                {"lps_alpha", FieldUse::stage}};
+      }
 
-    void
-    initialize(const ModelState &state, const std::vector<unsigned int> &points) override
-    {
-      const double *V = state.cloud.volume.data();
-      // With partial volumes the per-bond omega carries beta_ij too: every
-      // family sum (m, theta, force, tangent, stable step) then weighs
-      // neighbor j with beta_ij V_j and nothing else changes.
-      const bool partial = !state.bonds.volume_fraction.empty();
-      // Different horizons: omega per bond and per half (zero where the bond
-      // is not in that end's family), so the kernels need no bit test.
-      halves = !state.bonds.family.empty();
-      if (partial || halves)
-        constant_influence = false;
-      if (!constant_influence)
-        omega.assign(state.bonds.n_bonds(), 0.0);
-      if (halves)
-        omega_other.assign(state.bonds.n_bonds(), 0.0);
-      VectorType &m     = state.fields.get("weighted_volume");
-      VectorType &beta  = state.fields.get("lps_beta");
-      VectorType &gamma = state.fields.get("lps_gamma");
-      VectorType &D     = state.fields.get("lps_coupling");
-      for (const unsigned int i : points)
-        {
-          double mi = 0, Ai = 0, S1[3] = {0, 0, 0}, S2[3] = {0, 0, 0};
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const auto         xi = state.cloud.bond_vector(i, j);
-              const double       ex = xi[0], ey = xi[1], ez = xi[2];
-              const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
-              double             w  = omega0;
-              if (halves)
-                {
-                  const double delta_j = state.bonds.block_horizon[state.cloud.block[j]];
-                  omega_other[b] = state.bonds.family[b] & Bonds::other_half ?
-                                     influence->value(Point<dim>(std::min(r0 / delta_j, 1.0), 0, 0), 0) :
-                                     0.0;
-                }
-              if (!constant_influence)
-                {
-                  // Partial volumes add bonds up to a cell radius beyond the
-                  // horizon; they take omega at the horizon.
-                  const double r = std::min(r0 / horizon, 1.0);
-                  w = influence->value(Point<dim>(r, 0, 0), 0);
-                  AssertThrow(std::isfinite(w) && w >= 0,
-                              ExcMessage(influence->key() + ": '" + influence->text() +
-                                         "' is negative or not finite at r = " + std::to_string(r)));
-                  if (partial)
-                    w *= state.bonds.volume_fraction[b];
-                  if (halves && !(state.bonds.family[b] & Bonds::own_half))
-                    w = 0;
-                  omega[b] = w;
-                }
-              mi += w * r0 * r0 * V[j];
-              Ai += w * r0 * V[j];
-              if (surface_correction)
-                {
-                  const double e[3] = {ex, ey, ez};
-                  for (unsigned int p = 0; p < 3; ++p)
-                    {
-                      const double pq = e[p] * e[(p + 1) % 3];
-                      S1[p] += w * pq * V[j];
-                      S2[p] += w * pq * pq / (r0 * r0) * V[j];
-                    }
-                }
-            }
-          // m_i = 0 only for a virtual point of the FE coupling left without
-          // bonds (the core stops a run with any other point without bonds):
-          // it carries no energy and no force state.
-          const double inverse   = mi > 0 ? 1 / mi : 0.0;
-          // Surface correction of the shear modulus (see the top).
-          double g = 1;
-          if (surface_correction && mi > 0)
-            {
-              double deficit = 0;
-              for (unsigned int p = 0; p < 3; ++p)
-                deficit += S2[p] - S1[p] * S1[p] * inverse;
-              if (deficit > 0)
-                g = 3 * mi / 15 / deficit;
-            }
-          m.local_element(i)     = mi;
-          beta.local_element(i)  = 15 * g * G * inverse;
-          gamma.local_element(i) = (3 * K - 5 * g * G) * inverse;
-          D.local_element(i)     = std::abs(3 * K - 5 * g * G) * inverse * Ai * inverse;
-        }
-    }
-
-    std::vector<PointField>
-    point_fields() const override
-    {
-      return {{"dilatation", FieldUse::local, 1, "Dilatation"},
-              {"weighted_volume", FieldUse::constant, 1, "Weighted volume"},
-              {"lps_beta", FieldUse::constant},
-              {"lps_gamma", FieldUse::constant},
-              {"lps_coupling", FieldUse::constant},
-              {"lps_alpha", FieldUse::stage}};
-    }
-
-    void
-    compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      // Compile-time variants keep the bond loop free of branches.
-      with_flag(!constant_influence, [&](auto weighted) {
-        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-          with_flag(thermal(state), [&](auto heated) {
-            constexpr bool W = decltype(weighted)::value, P = decltype(periodic)::value,
-                           T = decltype(heated)::value;
-            if (state.breaking)
-              dilatation<BondDamage::breaking, W, P, T>(state, points);
-            else if (state.damage)
-              dilatation<BondDamage::continuous, W, P, T>(state, points);
-            else if (state.broken)
-              dilatation<BondDamage::read, W, P, T>(state, points);
-            else
-              dilatation<BondDamage::none, W, P, T>(state, points);
+      void
+      compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        // Compile-time variants keep the bond loop free of branches.
+        with_flag(!constant_influence, [&](auto weighted) {
+          with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+            with_flag(thermal(state), [&](auto heated) {
+              constexpr bool W = decltype(weighted)::value, P = decltype(periodic)::value,
+                             T = decltype(heated)::value;
+              if (state.breaking)
+                dilatation<BondDamage::breaking, W, P, T>(state, points);
+              else if (state.damage)
+                dilatation<BondDamage::continuous, W, P, T>(state, points);
+              else if (state.broken)
+                dilatation<BondDamage::read, W, P, T>(state, points);
+              else
+                dilatation<BondDamage::none, W, P, T>(state, points);
+            });
           });
         });
-      });
-    }
+      }
 
-    bool
-    fuses_stretch_criterion() const override
-    {
-      return true;
-    }
+      bool
+      fuses_stretch_criterion() const override
+      {
+        return true;
+      }
 
-    bool
-    supports_continuous_damage() const override
-    {
-      return true;
-    }
+      bool
+      supports_continuous_damage() const override
+      {
+        return true;
+      }
 
-    bool
-    has_bond_energy() const override
-    {
-      return true;
-    }
+      bool
+      has_bond_energy() const override
+      {
+        return true;
+      }
 
-    /// w = t e / 2 with t = t_ij + t_ji the bond's scalar force state (both
-    /// halves, as compute_force()) and e its mechanical extension: summed
-    /// over a point's family, sum_j t_ij e V_j / 2 is its energy density
-    /// W_i exactly (doc/models.md), so the pairs share the strain energy.
-    void
-    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
-    {
-      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-        with_flag(thermal(state), [&](auto heated) {
-          constexpr bool P = decltype(periodic)::value, T = decltype(heated)::value;
-          if (state.damage)
-            energy_kernel<P, T, BondDamage::continuous>(state, i, w);
-          else if (state.broken)
-            energy_kernel<P, T, BondDamage::read>(state, i, w);
-          else
-            energy_kernel<P, T, BondDamage::none>(state, i, w);
+      /// w = t e / 2 with t = t_ij + t_ji the bond's scalar force state (both
+      /// halves, as compute_force()) and e its mechanical extension: summed
+      /// over a point's family, sum_j t_ij e V_j / 2 is its energy density
+      /// W_i exactly (doc/models.md), so the pairs share the strain energy.
+      void
+      bond_energies(const ModelState &state, const unsigned int i, double *w) const override
+      {
+        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+          with_flag(thermal(state), [&](auto heated) {
+            constexpr bool P = decltype(periodic)::value, T = decltype(heated)::value;
+            if (state.damage)
+              energy_kernel<P, T, BondDamage::continuous>(state, i, w);
+            else if (state.broken)
+              energy_kernel<P, T, BondDamage::read>(state, i, w);
+            else
+              energy_kernel<P, T, BondDamage::none>(state, i, w);
+          });
         });
-      });
-    }
+      }
 
-    bool
-    weight_energy(const ModelState &state, const std::vector<unsigned int> &points, const double *weight) override
-    {
-      // The force state of point i is omega (gamma_i theta_i |xi| + beta_i e):
-      // scaling beta_i and gamma_i by w_i weights its energy by w_i; the
-      // force and the tangent read them from the fields.
-      VectorType &beta  = state.fields.get("lps_beta");
-      VectorType &gamma = state.fields.get("lps_gamma");
-      VectorType &D     = state.fields.get("lps_coupling");
-      for (const unsigned int i : points)
-        {
-          beta.local_element(i) *= weight[i];
-          gamma.local_element(i) *= weight[i];
-          D.local_element(i) *= weight[i];
-        }
-      energy_weighted = true;
-      return true;
-    }
+      bool
+      weight_energy(const ModelState &state, const std::vector<unsigned int> &points, const double *weight) override
+      {
+        // The force state of point i is omega (gamma_i theta_i |xi| + beta_i e):
+        // scaling beta_i and gamma_i by w_i weights its energy by w_i; the
+        // force and the tangent read them from the fields.
+        VectorType &beta  = state.fields.get("lps_beta");
+        VectorType &gamma = state.fields.get("lps_gamma");
+        VectorType &D     = state.fields.get("lps_coupling");
+        for (const unsigned int i : points)
+          {
+            beta.local_element(i) *= weight[i];
+            gamma.local_element(i) *= weight[i];
+            D.local_element(i) *= weight[i];
+          }
+        energy_weighted = true;
+        return true;
+      }
 
-    void
-    compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      // Compile-time variants keep the bond loop free of branches.
-      if (state.damage)
-        force_variants<BondDamage::continuous>(state, points);
-      else if (state.broken)
-        force_variants<BondDamage::read>(state, points);
-      else
-        force_variants<BondDamage::none>(state, points);
-    }
+      void
+      compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        // Compile-time variants keep the bond loop free of branches.
+        if (state.damage)
+          force_variants<BondDamage::continuous>(state, points);
+        else if (state.broken)
+          force_variants<BondDamage::read>(state, points);
+        else
+          force_variants<BondDamage::none>(state, points);
+      }
 
-    double
-    stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      // Gershgorin bound of the linearized LPS tangent, row by row:
-      //   rho_i lambda_i <= 2 sum_j (beta_i + beta_j) omega V_j           (pairwise part)
-      //                   + 6 |gamma_i| A_i^2 / m_i                        (own dilatation)
-      //                   + 6 sum_j omega |xi| V_j |gamma_j| A_j / m_j     (neighbors' dilatation)
-      // with A_i = sum_j omega |xi| V_j; the central difference limit is 2/sqrt(lambda).
-      const double     *V     = state.cloud.volume.data();
-      const VectorType &beta  = state.fields.get("lps_beta");
-      const VectorType &gamma = state.fields.get("lps_gamma");
-      const VectorType &m     = state.fields.get("weighted_volume");
-      const VectorType &D     = state.fields.get("lps_coupling");
-      double            dt    = std::numeric_limits<double>::max();
-      for (const unsigned int i : points)
-        {
-          double pair = 0, Ai = 0, neighbors = 0;
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int j  = state.bonds.neighbor[b];
-              const double       r0 = state.cloud.bond_vector(i, j).norm();
-              const double       w  = constant_influence ? omega0 : omega[b];
-              if (halves)
-                {
-                  const double w2 = omega_other[b];
-                  pair += (beta.local_element(i) * w + beta.local_element(j) * w2) * V[j];
-                  Ai += w * r0 * V[j];
-                  neighbors += w2 * r0 * V[j] * D.local_element(j);
-                  continue;
-                }
-              pair += (beta.local_element(i) + beta.local_element(j)) * w * V[j];
-              Ai += w * r0 * V[j];
-              neighbors += w * r0 * V[j] * D.local_element(j);
-            }
-          const double lambda = (2 * pair + 6 * std::abs(gamma.local_element(i)) * Ai * Ai /
-                                              m.local_element(i) +
-                                 6 * neighbors) /
-                                rho;
-          if (lambda > 0)
-            dt = std::min(dt, 2 / std::sqrt(lambda));
-        }
-      return dt;
-    }
-
-    bool
-    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
-    {
-      // Owner i, bond j (w = omega (1 - d), M = y/|y|, e = |y| - |xi|), from
-      // f_i = sum_j V_j h_ij M_ij, h_ij = w [|xi| (alpha_i + alpha_j) + (beta_i + beta_j) e]:
-      //   direct     A_j = V_j [w (beta_i + beta_j) M M^T + h (I - M M^T) / |y|]
-      //   dilatation theta_i depends on u_l, l in F(i), through
-      //              g_l = d theta_i / d u_l = (3/m_i) w_l |xi_l| V_l M_l, g_i = -sum_l g_l = -G;
-      //              f_i through alpha_i:  c = sum_j V_j w |xi| gamma_i M_j  (d f_i / d theta_i)
-      //              f_j through alpha_i:  -q_j, q_j = V_i w |xi| gamma_i M_j  (d f_j / d theta_i)
-      // K = -d(V f)/du:  row i:  K_il = -V_i (A_l + c g_l^T),  K_ii = V_i (sum A + c G^T)
-      //                  row j:  K_jl =  V_j q_j g_l^T,        K_ji = -V_j q_j G^T
-      // Different horizons: h has a half per end, w_i (i's, over F(i): the
-      // only one theta_i sees) and w_j (j's), so A_j = V_j [(w_i beta_i +
-      // w_j beta_j) M M^T + h (I - M M^T)/|y|], and c, g use w_i. Row j of
-      // f_j through theta_i is bond j->i's other half, whose weight is i->j's
-      // own one: j in F(i) and theta_i's weight for it.
-      const double *V     = state.cloud.volume.data();
-      const double *u     = state.u;
-      const double *m     = state.fields.get("weighted_volume").begin();
-      const double *alpha = state.fields.get("lps_alpha").begin();
-      const double *beta  = state.fields.get("lps_beta").begin();
-      const double *gamma = state.fields.get("lps_gamma").begin();
-      std::vector<unsigned int> cols;
-      std::vector<double>       blocks, M, g, w_r0; // w_r0: omega (1 - d) |xi| per bond
-      for (const unsigned int i : points)
-        {
-          const std::size_t first = state.bonds.offsets[i], n = state.bonds.offsets[i + 1] - first;
-          cols.resize(n + 1);
-          blocks.assign(9 * (n + 1), 0.0);
-          M.assign(3 * n, 0.0);
-          g.assign(3 * n, 0.0);
-          w_r0.assign(n, 0.0);
-          cols[0] = i;
-          double c[3] = {0, 0, 0}, Gs[3] = {0, 0, 0};
-          for (std::size_t k = 0; k < n; ++k)
-            {
-              const std::size_t  b = first + k;
-              const unsigned int j = state.bonds.neighbor[b];
-              cols[k + 1]          = j;
-              double w             = constant_influence ? omega0 : omega[b];
-              double w2            = halves ? omega_other[b] : 0.0;
-              // Continuous damage: the secant stiffness at fixed d.
-              const double intact = state.damage ? 1.0 - state.damage[b] : state.broken ? 1.0 - state.broken[b] : 1.0;
-              w *= intact;
-              w2 *= intact;
-              double xi[3], y[3];
-              const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
-              const double e     = r - r0 - thermal_extension(state, i, j, r0);
-              const double h     = halves ? w * (r0 * alpha[i] + beta[i] * e) + w2 * (r0 * alpha[j] + beta[j] * e) :
-                                            w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * e);
-              const double w_beta = halves ? w * beta[i] + w2 * beta[j] : w * (beta[i] + beta[j]);
-              w_r0[k]            = w * r0;
-              for (unsigned int d = 0; d < 3; ++d)
-                {
-                  M[3 * k + d] = y[d] / r;
-                  g[3 * k + d] = 3 / m[i] * w * r0 * V[j] * M[3 * k + d];
-                  Gs[d] += g[3 * k + d];
-                  c[d] += V[j] * w * r0 * gamma[i] * M[3 * k + d];
-                }
-              for (unsigned int p = 0; p < 3; ++p)
-                for (unsigned int q = 0; q < 3; ++q)
+      double
+      stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        // Gershgorin bound of the linearized LPS tangent, row by row:
+        //   rho_i lambda_i <= 2 sum_j (beta_i + beta_j) omega V_j           (pairwise part)
+        //                   + 6 |gamma_i| A_i^2 / m_i                        (own dilatation)
+        //                   + 6 sum_j omega |xi| V_j |gamma_j| A_j / m_j     (neighbors' dilatation)
+        // with A_i = sum_j omega |xi| V_j; the central difference limit is 2/sqrt(lambda).
+        const double     *V     = state.cloud.volume.data();
+        const VectorType &beta  = state.fields.get("lps_beta");
+        const VectorType &gamma = state.fields.get("lps_gamma");
+        const VectorType &m     = state.fields.get("weighted_volume");
+        const VectorType &D     = state.fields.get("lps_coupling");
+        double            dt    = std::numeric_limits<double>::max();
+        for (const unsigned int i : points)
+          {
+            double pair = 0, Ai = 0, neighbors = 0;
+            for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+              {
+                const unsigned int j  = state.bonds.neighbor[b];
+                const double       r0 = state.cloud.bond_vector(i, j).norm();
+                const double       w  = constant_influence ? omega0 : omega[b];
+                if (halves)
                   {
-                    const double MM = M[3 * k + p] * M[3 * k + q];
-                    const double A  = V[i] * V[j] * (w_beta * MM + h * ((p == q) - MM) / r);
-                    blocks[9 * (k + 1) + 3 * p + q] = -A;
-                    blocks[3 * p + q] += A;
+                    const double w2 = omega_other[b];
+                    pair += (beta.local_element(i) * w + beta.local_element(j) * w2) * V[j];
+                    Ai += w * r0 * V[j];
+                    neighbors += w2 * r0 * V[j] * D.local_element(j);
+                    continue;
                   }
-            }
-          // Row i: the dilatation of i.
-          for (std::size_t l = 0; l < n; ++l)
-            for (unsigned int p = 0; p < 3; ++p)
-              for (unsigned int q = 0; q < 3; ++q)
-                blocks[9 * (l + 1) + 3 * p + q] -= V[i] * c[p] * g[3 * l + q];
-          for (unsigned int p = 0; p < 3; ++p)
-            for (unsigned int q = 0; q < 3; ++q)
-              blocks[3 * p + q] += V[i] * c[p] * Gs[q];
-          rows.add(i, cols.data(), blocks.data(), n + 1);
+                pair += (beta.local_element(i) + beta.local_element(j)) * w * V[j];
+                Ai += w * r0 * V[j];
+                neighbors += w * r0 * V[j] * D.local_element(j);
+              }
+            const double lambda = (2 * pair + 6 * std::abs(gamma.local_element(i)) * Ai * Ai /
+                                                m.local_element(i) +
+                                   6 * neighbors) /
+                                  rho;
+            if (lambda > 0)
+              dt = std::min(dt, 2 / std::sqrt(lambda));
+          }
+        return dt;
+      }
 
-          // Rows j: their force through the dilatation of i.
-          if (gamma[i] == 0)
-            continue;
-          for (std::size_t k = 0; k < n; ++k)
-            {
-              if (w_r0[k] == 0)
-                continue;
-              const unsigned int j = cols[k + 1];
-              const double       s = V[j] * V[i] * w_r0[k] * gamma[i];
-              for (unsigned int p = 0; p < 3; ++p)
-                {
-                  const double qp = s * M[3 * k + p];
+      bool
+      add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+      {
+        // Owner i, bond j (w = omega (1 - d), M = y/|y|, e = |y| - |xi|), from
+        // f_i = sum_j V_j h_ij M_ij, h_ij = w [|xi| (alpha_i + alpha_j) + (beta_i + beta_j) e]:
+        //   direct     A_j = V_j [w (beta_i + beta_j) M M^T + h (I - M M^T) / |y|]
+        //   dilatation theta_i depends on u_l, l in F(i), through
+        //              g_l = d theta_i / d u_l = (3/m_i) w_l |xi_l| V_l M_l, g_i = -sum_l g_l = -G;
+        //              f_i through alpha_i:  c = sum_j V_j w |xi| gamma_i M_j  (d f_i / d theta_i)
+        //              f_j through alpha_i:  -q_j, q_j = V_i w |xi| gamma_i M_j  (d f_j / d theta_i)
+        // K = -d(V f)/du:  row i:  K_il = -V_i (A_l + c g_l^T),  K_ii = V_i (sum A + c G^T)
+        //                  row j:  K_jl =  V_j q_j g_l^T,        K_ji = -V_j q_j G^T
+        // Different horizons: h has a half per end, w_i (i's, over F(i): the
+        // only one theta_i sees) and w_j (j's), so A_j = V_j [(w_i beta_i +
+        // w_j beta_j) M M^T + h (I - M M^T)/|y|], and c, g use w_i. Row j of
+        // f_j through theta_i is bond j->i's other half, whose weight is i->j's
+        // own one: j in F(i) and theta_i's weight for it.
+        const double *V     = state.cloud.volume.data();
+        const double *u     = state.u;
+        const double *m     = state.fields.get("weighted_volume").begin();
+        const double *alpha = state.fields.get("lps_alpha").begin();
+        const double *beta  = state.fields.get("lps_beta").begin();
+        const double *gamma = state.fields.get("lps_gamma").begin();
+        std::vector<unsigned int> cols;
+        std::vector<double>       blocks, M, g, w_r0; // w_r0: omega (1 - d) |xi| per bond
+        for (const unsigned int i : points)
+          {
+            const std::size_t first = state.bonds.offsets[i], n = state.bonds.offsets[i + 1] - first;
+            cols.resize(n + 1);
+            blocks.assign(9 * (n + 1), 0.0);
+            M.assign(3 * n, 0.0);
+            g.assign(3 * n, 0.0);
+            w_r0.assign(n, 0.0);
+            cols[0] = i;
+            double c[3] = {0, 0, 0}, Gs[3] = {0, 0, 0};
+            for (std::size_t k = 0; k < n; ++k)
+              {
+                const std::size_t  b = first + k;
+                const unsigned int j = state.bonds.neighbor[b];
+                cols[k + 1]          = j;
+                double w             = constant_influence ? omega0 : omega[b];
+                double w2            = halves ? omega_other[b] : 0.0;
+                // Continuous damage: the secant stiffness at fixed d.
+                const double intact = state.damage ? 1.0 - state.damage[b] : state.broken ? 1.0 - state.broken[b] : 1.0;
+                w *= intact;
+                w2 *= intact;
+                double xi[3], y[3];
+                const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
+                const double e     = r - r0 - thermal_extension(state, i, j, r0);
+                const double h     = halves ? w * (r0 * alpha[i] + beta[i] * e) + w2 * (r0 * alpha[j] + beta[j] * e) :
+                                              w * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * e);
+                const double w_beta = halves ? w * beta[i] + w2 * beta[j] : w * (beta[i] + beta[j]);
+                w_r0[k]            = w * r0;
+                for (unsigned int d = 0; d < 3; ++d)
+                  {
+                    M[3 * k + d] = y[d] / r;
+                    g[3 * k + d] = 3 / m[i] * w * r0 * V[j] * M[3 * k + d];
+                    Gs[d] += g[3 * k + d];
+                    c[d] += V[j] * w * r0 * gamma[i] * M[3 * k + d];
+                  }
+                for (unsigned int p = 0; p < 3; ++p)
                   for (unsigned int q = 0; q < 3; ++q)
                     {
-                      blocks[3 * p + q] = -qp * Gs[q];
-                      for (std::size_t l = 0; l < n; ++l)
-                        blocks[9 * (l + 1) + 3 * p + q] = qp * g[3 * l + q];
+                      const double MM = M[3 * k + p] * M[3 * k + q];
+                      const double A  = V[i] * V[j] * (w_beta * MM + h * ((p == q) - MM) / r);
+                      blocks[9 * (k + 1) + 3 * p + q] = -A;
+                      blocks[3 * p + q] += A;
                     }
-                }
-              rows.add(j, cols.data(), blocks.data(), n + 1);
-            }
-        }
-      return true;
-    }
+              }
+            // Row i: the dilatation of i.
+            for (std::size_t l = 0; l < n; ++l)
+              for (unsigned int p = 0; p < 3; ++p)
+                for (unsigned int q = 0; q < 3; ++q)
+                  blocks[9 * (l + 1) + 3 * p + q] -= V[i] * c[p] * g[3 * l + q];
+            for (unsigned int p = 0; p < 3; ++p)
+              for (unsigned int q = 0; q < 3; ++q)
+                blocks[3 * p + q] += V[i] * c[p] * Gs[q];
+            rows.add(i, cols.data(), blocks.data(), n + 1);
 
-  private:
-    double                      rho = 0, K = 0, G = 0, thermal_expansion = 0;
-    std::unique_ptr<Expression> influence;
-    bool                        constant_influence = true;
-    double                      omega0             = 1;
-    std::vector<double>         omega; // per bond, only for a non-constant influence function
-    std::vector<double>         omega_other; // per bond, the other end's half: only with Bonds::family
-    bool                        halves = false; // Bonds::family is set: omega and omega_other hold the halves
-    bool                        energy_weighted = false; // weight_energy() scaled the fields
-    bool                        surface_correction = false;
+            // Rows j: their force through the dilatation of i.
+            if (gamma[i] == 0)
+              continue;
+            for (std::size_t k = 0; k < n; ++k)
+              {
+                if (w_r0[k] == 0)
+                  continue;
+                const unsigned int j = cols[k + 1];
+                const double       s = V[j] * V[i] * w_r0[k] * gamma[i];
+                for (unsigned int p = 0; p < 3; ++p)
+                  {
+                    const double qp = s * M[3 * k + p];
+                    for (unsigned int q = 0; q < 3; ++q)
+                      {
+                        blocks[3 * p + q] = -qp * Gs[q];
+                        for (std::size_t l = 0; l < n; ++l)
+                          blocks[9 * (l + 1) + 3 * p + q] = qp * g[3 * l + q];
+                      }
+                  }
+                rows.add(j, cols.data(), blocks.data(), n + 1);
+              }
+          }
+        return true;
+      }
 
-    bool
-    thermal(const ModelState &state) const
-    {
-      return state.thermal_strain != nullptr;
-    }
-    /// The free thermal extension of bond i-j, 0 without thermal strain (tangent).
-    double
-    thermal_extension(const ModelState &state, const unsigned int i, const unsigned int j, const double r0) const
-    {
-      return thermal(state) ?
-               0.5 * (state.thermal_strain[i] + state.thermal_strain[j]) * r0 :
-               0.0;
-    }
+    private:
+      double                      rho = 0, K = 0, G = 0, thermal_expansion = 0;
+      std::unique_ptr<Expression> influence;
+      bool                        constant_influence = true;
+      double                      omega0             = 1;
+      std::vector<double>         omega; // per bond, only for a non-constant influence function
+      std::vector<double>         omega_other; // per bond, the other end's half: only with Bonds::family
+      bool                        halves = false; // Bonds::family is set: omega and omega_other hold the halves
+      bool                        energy_weighted = false; // weight_energy() scaled the fields
+      bool                        surface_correction = false;
 
-    template <BondDamage mode, bool weighted, bool periodic, bool heated>
-    void
-    dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
-    {
-      const Periodicity   box      = state.cloud.periodicity;
-      const double       *X        = state.cloud.X.data();
-      const double       *V        = state.cloud.volume.data();
-      const double       *u        = state.u;
-      const std::size_t  *offsets  = state.bonds.offsets.data();
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      std::uint8_t       *broken   = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
-      const std::uint8_t *damage   = mode == BondDamage::breaking ? broken : state.broken;
-      const double        limit    = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
-      const double       *d        = state.damage; // continuous only
-      const double       *w_bond   = omega.data();
-      const double       *m        = state.fields.get("weighted_volume").begin();
-      const double       *gamma    = state.fields.get("lps_gamma").begin();
-      double             *theta    = state.fields.get("dilatation").begin();
-      double             *alpha    = state.fields.get("lps_alpha").begin();
-      const double       *eps_T    = state.thermal_strain; // heated only
-      std::size_t         newly_broken = 0;
-      for (const unsigned int i : points)
-        {
-          const BondOrigin origin(X, u, i);
-          double           sum = 0;
-#pragma omp simd reduction(+ : sum, newly_broken)
-          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-            {
-              const unsigned int j = neighbor[b];
-              double             e[3], y[3];
-              bond_vectors<periodic>(X, u, j, origin, box, e, y);
-              const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
-              const double       r0sq = ex * ex + ey * ey + ez * ez;
-              const double       rsq  = dx * dx + dy * dy + dz * dz;
-              if (mode == BondDamage::breaking)
-                newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
-              const double r0 = std::sqrt(r0sq);
-              const double r  = std::sqrt(rsq);
-              double       w  = weighted ? w_bond[b] : omega0;
-              if (mode == BondDamage::continuous)
-                w *= 1.0 - d[b];
-              else if (mode != BondDamage::none)
-                w *= 1.0 - damage[b];
-              const double ext = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
-              sum += w * r0 * ext * V[j];
-            }
-          theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
-          alpha[i] = gamma[i] * theta[i];
-        }
-      if (mode == BondDamage::breaking)
-        state.breaking->newly_broken += newly_broken;
-    }
+      bool
+      thermal(const ModelState &state) const
+      {
+        return state.thermal_strain != nullptr;
+      }
+      /// The free thermal extension of bond i-j, 0 without thermal strain (tangent).
+      double
+      thermal_extension(const ModelState &state, const unsigned int i, const unsigned int j, const double r0) const
+      {
+        return thermal(state) ?
+                 0.5 * (state.thermal_strain[i] + state.thermal_strain[j]) * r0 :
+                 0.0;
+      }
 
-    /// bond_energies() of point @p i: force()'s bond scalar t (both halves)
-    /// times e / 2; with partial volumes per unit volume (omega carries beta).
-    template <bool periodic, bool heated, BondDamage mode>
-    void
-    energy_kernel(const ModelState &state, const unsigned int i, double *w_out) const
-    {
-      const Periodicity   box      = state.cloud.periodicity;
-      const double       *X        = state.cloud.X.data();
-      const double       *u        = state.u;
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      const double       *alpha    = state.fields.get("lps_alpha").begin();
-      const double       *beta     = state.fields.get("lps_beta").begin();
-      const double       *w_bond   = constant_influence ? nullptr : omega.data();
-      const double       *w_other  = halves ? omega_other.data() : nullptr;
-      const float        *fraction = state.bonds.volume_fraction.empty() ? nullptr : state.bonds.volume_fraction.data();
-      const double       *d        = state.damage;
-      const std::uint8_t *broken   = state.broken;
-      const double       *eps_T    = state.thermal_strain; // heated only
-      const std::size_t   first    = state.bonds.offsets[i], last = state.bonds.offsets[i + 1];
-      const BondOrigin    origin(X, u, i);
-#pragma omp simd
-      for (std::size_t b = first; b < last; ++b)
-        {
-          const unsigned int j = neighbor[b];
-          double             ev[3], y[3];
-          bond_vectors<periodic>(X, u, j, origin, box, ev, y);
-          const double r0 = std::sqrt(ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2]);
-          const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-          const double e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
-          const double intact = mode == BondDamage::none       ? 1.0 :
-                                mode == BondDamage::continuous ? 1.0 - d[b] :
-                                                                 1.0 - broken[b];
-          const double wi = intact * (w_bond ? w_bond[b] : omega0);
-          const double t  = w_other ? wi * (r0 * alpha[i] + beta[i] * e) +
-                                       intact * w_other[b] * (r0 * alpha[j] + beta[j] * e) :
-                                      wi * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * e);
-          w_out[b - first] = 0.5 * t * e / (fraction && fraction[b] > 0 ? double(fraction[b]) : 1.0);
-        }
-    }
+      template <BondDamage mode, bool weighted, bool periodic, bool heated>
+      void
+      dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
+      {
+        const Periodicity   box      = state.cloud.periodicity;
+        const double       *X        = state.cloud.X.data();
+        const double       *V        = state.cloud.volume.data();
+        const double       *u        = state.u;
+        const std::size_t  *offsets  = state.bonds.offsets.data();
+        const unsigned int *neighbor = state.bonds.neighbor.data();
+        std::uint8_t       *broken   = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
+        const std::uint8_t *damage   = mode == BondDamage::breaking ? broken : state.broken;
+        const double        limit    = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
+        const double       *d        = state.damage; // continuous only
+        const double       *w_bond   = omega.data();
+        const double       *m        = state.fields.get("weighted_volume").begin();
+        const double       *gamma    = state.fields.get("lps_gamma").begin();
+        double             *theta    = state.fields.get("dilatation").begin();
+        double             *alpha    = state.fields.get("lps_alpha").begin();
+        const double       *eps_T    = state.thermal_strain; // heated only
+        std::size_t         newly_broken = 0;
+        for (const unsigned int i : points)
+          {
+            const BondOrigin origin(X, u, i);
+            double           sum = 0;
+  #pragma omp simd reduction(+ : sum, newly_broken)
+            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+              {
+                const unsigned int j = neighbor[b];
+                double             e[3], y[3];
+                bond_vectors<periodic>(X, u, j, origin, box, e, y);
+                const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
+                const double       r0sq = ex * ex + ey * ey + ez * ez;
+                const double       rsq  = dx * dx + dy * dy + dz * dz;
+                if (mode == BondDamage::breaking)
+                  newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
+                const double r0 = std::sqrt(r0sq);
+                const double r  = std::sqrt(rsq);
+                double       w  = weighted ? w_bond[b] : omega0;
+                if (mode == BondDamage::continuous)
+                  w *= 1.0 - d[b];
+                else if (mode != BondDamage::none)
+                  w *= 1.0 - damage[b];
+                const double ext = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
+                sum += w * r0 * ext * V[j];
+              }
+            theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
+            alpha[i] = gamma[i] * theta[i];
+          }
+        if (mode == BondDamage::breaking)
+          state.breaking->newly_broken += newly_broken;
+      }
 
-    template <BondDamage mode>
-    void
-    force_variants(const ModelState &state, const std::vector<unsigned int> &points) const
-    {
-      with_flag(state.energy != nullptr, [&](auto energy) {
-        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-          with_flag(thermal(state), [&](auto heated) {
-            constexpr bool E = decltype(energy)::value, P = decltype(periodic)::value, T = decltype(heated)::value;
-            if (halves)
-              force<mode, E, true, P, T, true>(state, points);
-            else if (constant_influence)
-              force<mode, E, false, P, T>(state, points);
-            else
-              force<mode, E, true, P, T>(state, points);
+      /// bond_energies() of point @p i: force()'s bond scalar t (both halves)
+      /// times e / 2; with partial volumes per unit volume (omega carries beta).
+      template <bool periodic, bool heated, BondDamage mode>
+      void
+      energy_kernel(const ModelState &state, const unsigned int i, double *w_out) const
+      {
+        const Periodicity   box      = state.cloud.periodicity;
+        const double       *X        = state.cloud.X.data();
+        const double       *u        = state.u;
+        const unsigned int *neighbor = state.bonds.neighbor.data();
+        const double       *alpha    = state.fields.get("lps_alpha").begin();
+        const double       *beta     = state.fields.get("lps_beta").begin();
+        const double       *w_bond   = constant_influence ? nullptr : omega.data();
+        const double       *w_other  = halves ? omega_other.data() : nullptr;
+        const float        *fraction = state.bonds.volume_fraction.empty() ? nullptr : state.bonds.volume_fraction.data();
+        const double       *d        = state.damage;
+        const std::uint8_t *broken   = state.broken;
+        const double       *eps_T    = state.thermal_strain; // heated only
+        const std::size_t   first    = state.bonds.offsets[i], last = state.bonds.offsets[i + 1];
+        const BondOrigin    origin(X, u, i);
+  #pragma omp simd
+        for (std::size_t b = first; b < last; ++b)
+          {
+            const unsigned int j = neighbor[b];
+            double             ev[3], y[3];
+            bond_vectors<periodic>(X, u, j, origin, box, ev, y);
+            const double r0 = std::sqrt(ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2]);
+            const double r  = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+            const double e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
+            const double intact = mode == BondDamage::none       ? 1.0 :
+                                  mode == BondDamage::continuous ? 1.0 - d[b] :
+                                                                   1.0 - broken[b];
+            const double wi = intact * (w_bond ? w_bond[b] : omega0);
+            const double t  = w_other ? wi * (r0 * alpha[i] + beta[i] * e) +
+                                         intact * w_other[b] * (r0 * alpha[j] + beta[j] * e) :
+                                        wi * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * e);
+            w_out[b - first] = 0.5 * t * e / (fraction && fraction[b] > 0 ? double(fraction[b]) : 1.0);
+          }
+      }
+
+      template <BondDamage mode>
+      void
+      force_variants(const ModelState &state, const std::vector<unsigned int> &points) const
+      {
+        with_flag(state.energy != nullptr, [&](auto energy) {
+          with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+            with_flag(thermal(state), [&](auto heated) {
+              constexpr bool E = decltype(energy)::value, P = decltype(periodic)::value, T = decltype(heated)::value;
+              if (halves)
+                force<mode, E, true, P, T, true>(state, points);
+              else if (constant_influence)
+                force<mode, E, false, P, T>(state, points);
+              else
+                force<mode, E, true, P, T>(state, points);
+            });
           });
         });
-      });
-    }
+      }
 
-    /// mode: none, read (state.broken) or continuous (state.damage).
-    template <BondDamage mode, bool energy, bool weighted, bool periodic, bool heated, bool two_halves = false>
-    void
-    force(const ModelState &state, const std::vector<unsigned int> &points) const
-    {
-      const Periodicity   box      = state.cloud.periodicity;
-      const double       *X        = state.cloud.X.data();
-      const double       *V        = state.cloud.volume.data();
-      const double       *u        = state.u;
-      const std::size_t  *offsets  = state.bonds.offsets.data();
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      const std::uint8_t *broken   = state.broken;
-      const double       *d        = state.damage; // continuous only
-      const double       *w_bond   = omega.data();
-      const double       *w_other  = omega_other.data();
-      const double       *alpha    = state.fields.get("lps_alpha").begin();
-      const double       *beta     = state.fields.get("lps_beta").begin();
-      const double       *theta    = state.fields.get("dilatation").begin();
-      const double       *m        = state.fields.get("weighted_volume").begin();
-      const double       *gamma    = state.fields.get("lps_gamma").begin();
-      double             *f        = state.force;
-      const double       *eps_T    = state.thermal_strain; // heated only
-      for (const unsigned int i : points)
-        {
-          const BondOrigin origin(X, u, i);
-          const double     ai = alpha[i], bi = beta[i];
-          const double     third_theta = theta[i] / 3;
-          double           fx = 0, fy = 0, fz = 0, Wd = 0;
-#pragma omp simd reduction(+ : fx, fy, fz, Wd)
-          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-            {
-              const unsigned int j = neighbor[b];
-              double             ev[3], y[3];
-              bond_vectors<periodic>(X, u, j, origin, box, ev, y);
-              const double ex = ev[0], ey = ev[1], ez = ev[2], dx = y[0], dy = y[1], dz = y[2];
-              const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
-              const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
-              const double       e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
-              double             w  = weighted ? w_bond[b] : omega0;
-              double             w2 = two_halves ? w_other[b] : 0.0;
-              if (mode != BondDamage::none)
-                {
-                  const double intact = mode == BondDamage::continuous ? 1.0 - d[b] : 1.0 - broken[b];
-                  w *= intact;
-                  w2 *= intact;
-                }
-              const double t = two_halves ? w * (r0 * ai + bi * e) + w2 * (r0 * alpha[j] + beta[j] * e) :
-                                            w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e);
-              const double k = t * V[j] / r;
-              fx += k * dx;
-              fy += k * dy;
-              fz += k * dz;
-              if (energy)
-                {
-                  const double ed = e - third_theta * r0;
-                  Wd += w * ed * ed * V[j];
-                }
-            }
-          f[3 * i] += fx;
-          f[3 * i + 1] += fy;
-          f[3 * i + 2] += fz;
-          if (energy)
-            {
-              // Weighted: w_i K = m_i (gamma_i + beta_i / 3) / 3 of the scaled fields.
-              const double Ki = energy_weighted ? m[i] * (gamma[i] + bi / 3) / 3 : K;
-              state.energy[i] += 0.5 * Ki * theta[i] * theta[i] + 0.5 * bi * Wd;
-            }
-        }
-    }
-  };
+      /// mode: none, read (state.broken) or continuous (state.damage).
+      template <BondDamage mode, bool energy, bool weighted, bool periodic, bool heated, bool two_halves = false>
+      void
+      force(const ModelState &state, const std::vector<unsigned int> &points) const
+      {
+        const Periodicity   box      = state.cloud.periodicity;
+        const double       *X        = state.cloud.X.data();
+        const double       *V        = state.cloud.volume.data();
+        const double       *u        = state.u;
+        const std::size_t  *offsets  = state.bonds.offsets.data();
+        const unsigned int *neighbor = state.bonds.neighbor.data();
+        const std::uint8_t *broken   = state.broken;
+        const double       *d        = state.damage; // continuous only
+        const double       *w_bond   = omega.data();
+        const double       *w_other  = omega_other.data();
+        const double       *alpha    = state.fields.get("lps_alpha").begin();
+        const double       *beta     = state.fields.get("lps_beta").begin();
+        const double       *theta    = state.fields.get("dilatation").begin();
+        const double       *m        = state.fields.get("weighted_volume").begin();
+        const double       *gamma    = state.fields.get("lps_gamma").begin();
+        double             *f        = state.force;
+        const double       *eps_T    = state.thermal_strain; // heated only
+        for (const unsigned int i : points)
+          {
+            const BondOrigin origin(X, u, i);
+            const double     ai = alpha[i], bi = beta[i];
+            const double     third_theta = theta[i] / 3;
+            double           fx = 0, fy = 0, fz = 0, Wd = 0;
+  #pragma omp simd reduction(+ : fx, fy, fz, Wd)
+            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+              {
+                const unsigned int j = neighbor[b];
+                double             ev[3], y[3];
+                bond_vectors<periodic>(X, u, j, origin, box, ev, y);
+                const double ex = ev[0], ey = ev[1], ez = ev[2], dx = y[0], dy = y[1], dz = y[2];
+                const double       r0 = std::sqrt(ex * ex + ey * ey + ez * ez);
+                const double       r  = std::sqrt(dx * dx + dy * dy + dz * dz);
+                const double       e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
+                double             w  = weighted ? w_bond[b] : omega0;
+                double             w2 = two_halves ? w_other[b] : 0.0;
+                if (mode != BondDamage::none)
+                  {
+                    const double intact = mode == BondDamage::continuous ? 1.0 - d[b] : 1.0 - broken[b];
+                    w *= intact;
+                    w2 *= intact;
+                  }
+                const double t = two_halves ? w * (r0 * ai + bi * e) + w2 * (r0 * alpha[j] + beta[j] * e) :
+                                              w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e);
+                const double k = t * V[j] / r;
+                fx += k * dx;
+                fy += k * dy;
+                fz += k * dz;
+                if (energy)
+                  {
+                    const double ed = e - third_theta * r0;
+                    Wd += w * ed * ed * V[j];
+                  }
+              }
+            f[3 * i] += fx;
+            f[3 * i + 1] += fy;
+            f[3 * i + 2] += fz;
+            if (energy)
+              {
+                // Weighted: w_i K = m_i (gamma_i + beta_i / 3) / 3 of the scaled fields.
+                const double Ki = energy_weighted ? m[i] * (gamma[i] + bi / 3) / 3 : K;
+                state.energy[i] += 0.5 * Ki * theta[i] * theta[i] + 0.5 * bi * Wd;
+              }
+          }
+      }
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(Material, LPS, "LPS",
                     "Linear peridynamic solid, state based (Peridigm's 'Elastic'). "

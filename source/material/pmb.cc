@@ -34,402 +34,405 @@ namespace perideal
 {
   using namespace dealii;
 
-  class PMB : public Material
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class PMB : public Material
     {
-      prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      declare_elastic_constants(prm);
-      declare_thermal_expansion(prm);
-      prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
-                        "Energy: scale each point's micromodulus by g = pi delta^4 / sum_j |xi| V_j, the "
-                        "continuum's over its family's strain energy density under an isotropic expansion "
-                        "(Le & Bobaru 2018's energy method): restores the stiffness a free surface cuts "
-                        "from a family (a plate a few points thick is otherwise 15-20% too soft) and the "
-                        "lattice sum's quadrature error. Bonds use (c_i + c_j)/2. The set-up cost is one "
-                        "pass over the bonds.");
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
+        declare_elastic_constants(prm);
+        declare_thermal_expansion(prm);
+        prm.declare_entry("Surface correction", "None", Patterns::Selection("None|Energy"),
+                          "Energy: scale each point's micromodulus by g = pi delta^4 / sum_j |xi| V_j, the "
+                          "continuum's over its family's strain energy density under an isotropic expansion "
+                          "(Le & Bobaru 2018's energy method): restores the stiffness a free surface cuts "
+                          "from a family (a plate a few points thick is otherwise 15-20% too soft) and the "
+                          "lattice sum's quadrature error. Bonds use (c_i + c_j)/2. The set-up cost is one "
+                          "pass over the bonds.");
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
-    {
-      rho = prm.get_double("Density");
-      K   = parse_bond_based_elastic_constants(prm, path).K;
-      thermal_expansion  = parse_thermal_expansion(prm, path);
-      surface_correction = prm.get("Surface correction") == "Energy";
-      require_positive(rho, path + "/Density");
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        rho = prm.get_double("Density");
+        K   = parse_bond_based_elastic_constants(prm, path).K;
+        thermal_expansion  = parse_thermal_expansion(prm, path);
+        surface_correction = prm.get("Surface correction") == "Energy";
+        require_positive(rho, path + "/Density");
+      }
 
-    double
-    density() const override
-    {
-      return rho;
-    }
-    double
-    bulk_modulus() const override
-    {
-      return K;
-    }
-    double
-    thermal_expansion_coefficient() const override
-    {
-      return thermal_expansion;
-    }
-    double
-    shear_modulus() const override
-    {
-      return 0.6 * K;
-    }
+      double
+      density() const override
+      {
+        return rho;
+      }
+      double
+      bulk_modulus() const override
+      {
+        return K;
+      }
+      double
+      thermal_expansion_coefficient() const override
+      {
+        return thermal_expansion;
+      }
+      double
+      shear_modulus() const override
+      {
+        return 0.6 * K;
+      }
 
-    double
-    micromodulus() const
-    {
-      return 18 * K / (M_PI * std::pow(horizon, 4));
-    }
+      double
+      micromodulus() const
+      {
+        return 18 * K / (M_PI * std::pow(horizon, 4));
+      }
 
-    void
-    initialize(const ModelState &state, const std::vector<unsigned int> &points) override
-    {
-      VectorType &c = state.fields.get("pmb_micromodulus");
-      for (const unsigned int i : points)
-        c.local_element(i) = micromodulus();
-      if (!surface_correction)
-        return;
-      for (const unsigned int i : points)
-        {
-          // Over the point's own family.
-          const double sum = family_sum(state, i, [&](std::size_t b, unsigned int, const double r0, const double Vj) {
-            return state.bonds.own(b) * r0 * Vj;
-          });
-          if (sum > 0)
-            c.local_element(i) *= M_PI * std::pow(horizon, 4) / sum;
-        }
-      uniform_known = false;
-    }
+      void
+      initialize(const ModelState &state, const std::vector<unsigned int> &points) override
+      {
+        VectorType &c = state.fields.get("pmb_micromodulus");
+        for (const unsigned int i : points)
+          c.local_element(i) = micromodulus();
+        if (!surface_correction)
+          return;
+        for (const unsigned int i : points)
+          {
+            // Over the point's own family.
+            const double sum = family_sum(state, i, [&](std::size_t b, unsigned int, const double r0, const double Vj) {
+              return state.bonds.own(b) * r0 * Vj;
+            });
+            if (sum > 0)
+              c.local_element(i) *= M_PI * std::pow(horizon, 4) / sum;
+          }
+        uniform_known = false;
+      }
 
-    std::vector<PointField>
-    point_fields() const override
-    {
-      return {{"pmb_micromodulus", FieldUse::constant}};
-    }
+      std::vector<PointField>
+      point_fields() const override
+      {
+        return {{"pmb_micromodulus", FieldUse::constant}};
+      }
 
-    void
-    compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      const VectorType &c_field = state.fields.get("pmb_micromodulus");
-      // One micromodulus in the whole family (the common case): the plain loop.
-      const bool uniform = uniform_neighborhood(state, points, c_field);
-      // Compile-time variants keep the bond loop free of branches.
-      with_flag(thermal(state), [&](auto heated) {
-        constexpr bool T = decltype(heated)::value;
-        if (state.breaking)
-          dispatch<BondDamage::breaking, T>(uniform, state, points, c_field);
-        else if (state.damage)
-          dispatch<BondDamage::continuous, T>(uniform, state, points, c_field);
-        else if (state.broken)
-          dispatch<BondDamage::read, T>(uniform, state, points, c_field);
-        else
-          dispatch<BondDamage::none, T>(uniform, state, points, c_field);
-      });
-    }
-
-    bool
-    fuses_stretch_criterion() const override
-    {
-      return true;
-    }
-
-    bool
-    has_bond_energy() const override
-    {
-      return true;
-    }
-
-    /// w = c s^2 |xi| / 2 (1 - d): the bond's micropotential, the work of its
-    /// force c s along its extension s |xi| (doc/models.md).
-    void
-    bond_energies(const ModelState &state, const unsigned int i, double *w) const override
-    {
-      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+      void
+      compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        const VectorType &c_field = state.fields.get("pmb_micromodulus");
+        // One micromodulus in the whole family (the common case): the plain loop.
+        const bool uniform = uniform_neighborhood(state, points, c_field);
+        // Compile-time variants keep the bond loop free of branches.
         with_flag(thermal(state), [&](auto heated) {
-          with_flag(!state.bonds.family.empty(), [&](auto halves) {
-            constexpr bool P = decltype(periodic)::value, T = decltype(heated)::value, H = decltype(halves)::value;
-            if (state.damage)
-              energy_kernel<P, T, H, BondDamage::continuous>(state, i, w);
-            else if (state.broken)
-              energy_kernel<P, T, H, BondDamage::read>(state, i, w);
-            else
-              energy_kernel<P, T, H, BondDamage::none>(state, i, w);
+          constexpr bool T = decltype(heated)::value;
+          if (state.breaking)
+            dispatch<BondDamage::breaking, T>(uniform, state, points, c_field);
+          else if (state.damage)
+            dispatch<BondDamage::continuous, T>(uniform, state, points, c_field);
+          else if (state.broken)
+            dispatch<BondDamage::read, T>(uniform, state, points, c_field);
+          else
+            dispatch<BondDamage::none, T>(uniform, state, points, c_field);
+        });
+      }
+
+      bool
+      fuses_stretch_criterion() const override
+      {
+        return true;
+      }
+
+      bool
+      has_bond_energy() const override
+      {
+        return true;
+      }
+
+      /// w = c s^2 |xi| / 2 (1 - d): the bond's micropotential, the work of its
+      /// force c s along its extension s |xi| (doc/models.md).
+      void
+      bond_energies(const ModelState &state, const unsigned int i, double *w) const override
+      {
+        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+          with_flag(thermal(state), [&](auto heated) {
+            with_flag(!state.bonds.family.empty(), [&](auto halves) {
+              constexpr bool P = decltype(periodic)::value, T = decltype(heated)::value, H = decltype(halves)::value;
+              if (state.damage)
+                energy_kernel<P, T, H, BondDamage::continuous>(state, i, w);
+              else if (state.broken)
+                energy_kernel<P, T, H, BondDamage::read>(state, i, w);
+              else
+                energy_kernel<P, T, H, BondDamage::none>(state, i, w);
+            });
           });
         });
-      });
-    }
+      }
 
-    bool
-    supports_continuous_damage() const override
-    {
-      return true;
-    }
+      bool
+      supports_continuous_damage() const override
+      {
+        return true;
+      }
 
-    bool
-    weight_energy(const ModelState &state, const std::vector<unsigned int> &points, const double *weight) override
-    {
-      // A bond's energy goes with c_ij = (c_i + c_j)/2, half to each end:
-      // scaling c_i by w_i weights the energy of point i by w_i.
-      VectorType &c = state.fields.get("pmb_micromodulus");
-      for (const unsigned int i : points)
-        c.local_element(i) *= weight[i];
-      uniform_known = false;
-      return true;
-    }
+      bool
+      weight_energy(const ModelState &state, const std::vector<unsigned int> &points, const double *weight) override
+      {
+        // A bond's energy goes with c_ij = (c_i + c_j)/2, half to each end:
+        // scaling c_i by w_i weights the energy of point i by w_i.
+        VectorType &c = state.fields.get("pmb_micromodulus");
+        for (const unsigned int i : points)
+          c.local_element(i) *= weight[i];
+        uniform_known = false;
+        return true;
+      }
 
-    double
-    stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      // Silling-Askari: dt_i = sqrt(2 rho / sum_j V_j c_ij / |xi_ij|), the
-      // Gershgorin bound of the bond-based tangent.
-      const VectorType &c  = state.fields.get("pmb_micromodulus");
-      double            dt = std::numeric_limits<double>::max();
-      for (const unsigned int i : points)
-        {
-          const double sum = family_sum(state, i, [&](std::size_t b, const unsigned int j, const double r0, const double Vj) {
-            return Vj * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) / r0;
-          });
-          if (sum > 0)
-            dt = std::min(dt, std::sqrt(2 * rho / sum));
-        }
-      return dt;
-    }
+      double
+      stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        // Silling-Askari: dt_i = sqrt(2 rho / sum_j V_j c_ij / |xi_ij|), the
+        // Gershgorin bound of the bond-based tangent.
+        const VectorType &c  = state.fields.get("pmb_micromodulus");
+        double            dt = std::numeric_limits<double>::max();
+        for (const unsigned int i : points)
+          {
+            const double sum = family_sum(state, i, [&](std::size_t b, const unsigned int j, const double r0, const double Vj) {
+              return Vj * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) / r0;
+            });
+            if (sum > 0)
+              dt = std::min(dt, std::sqrt(2 * rho / sum));
+          }
+        return dt;
+      }
 
-    unsigned int
-    coupling_hops() const override
-    {
-      return 1;
-    }
+      unsigned int
+      coupling_hops() const override
+      {
+        return 1;
+      }
 
-    bool
-    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
-    {
-      // Row i of K = -d(V_i f_i)/du: with M = y/|y|, s the stretch,
-      //   d(s M)/dy = M M^T / |xi| + s (I - M M^T) / |y|,
-      // A_ij = c (1 - d) V_j d(s M)/dy; K_ij = -V_i A_ij, K_ii = V_i sum_j A_ij.
-      const VectorType  &c = state.fields.get("pmb_micromodulus");
-      const double      *V = state.cloud.volume.data();
-      const double      *u = state.u;
-      std::vector<unsigned int> cols;
-      std::vector<double>       blocks;
-      for (const unsigned int i : points)
-        {
-          const std::size_t first = state.bonds.offsets[i], n = state.bonds.offsets[i + 1] - first;
-          cols.resize(n + 1);
-          blocks.assign(9 * (n + 1), 0.0);
-          cols[0] = i;
-          for (std::size_t k = 0; k < n; ++k)
-            {
-              const std::size_t  b = first + k;
-              const unsigned int j = state.bonds.neighbor[b];
-              cols[k + 1]          = j;
-              // Continuous damage: the secant stiffness (1 - d) at fixed d.
-              const double intact = state.damage ? 1 - state.damage[b] : state.broken ? 1 - state.broken[b] : 1;
-              if (intact == 0)
-                continue;
-              double xi[3], y[3];
-              const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
-              const double cv = intact * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) *
-                                V[j] * state.bonds.fraction(b) * V[i];
-              add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r, thermal_stretch(state, i, j));
-            }
-          rows.add(i, cols.data(), blocks.data(), n + 1);
-        }
-      return true;
-    }
+      bool
+      add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+      {
+        // Row i of K = -d(V_i f_i)/du: with M = y/|y|, s the stretch,
+        //   d(s M)/dy = M M^T / |xi| + s (I - M M^T) / |y|,
+        // A_ij = c (1 - d) V_j d(s M)/dy; K_ij = -V_i A_ij, K_ii = V_i sum_j A_ij.
+        const VectorType  &c = state.fields.get("pmb_micromodulus");
+        const double      *V = state.cloud.volume.data();
+        const double      *u = state.u;
+        std::vector<unsigned int> cols;
+        std::vector<double>       blocks;
+        for (const unsigned int i : points)
+          {
+            const std::size_t first = state.bonds.offsets[i], n = state.bonds.offsets[i + 1] - first;
+            cols.resize(n + 1);
+            blocks.assign(9 * (n + 1), 0.0);
+            cols[0] = i;
+            for (std::size_t k = 0; k < n; ++k)
+              {
+                const std::size_t  b = first + k;
+                const unsigned int j = state.bonds.neighbor[b];
+                cols[k + 1]          = j;
+                // Continuous damage: the secant stiffness (1 - d) at fixed d.
+                const double intact = state.damage ? 1 - state.damage[b] : state.broken ? 1 - state.broken[b] : 1;
+                if (intact == 0)
+                  continue;
+                double xi[3], y[3];
+                const auto [r0, r] = bond_geometry(state.cloud, u, i, j, xi, y);
+                const double cv = intact * bond_micromodulus(state.bonds, b, c.local_element(i), c.local_element(j)) *
+                                  V[j] * state.bonds.fraction(b) * V[i];
+                add_pair_bond_tangent(blocks.data(), k, cv, y, r0, r, thermal_stretch(state, i, j));
+              }
+            rows.add(i, cols.data(), blocks.data(), n + 1);
+          }
+        return true;
+      }
 
-  private:
-    double rho = 0, K = 0, thermal_expansion = 0;
-    bool   surface_correction = false;
+    private:
+      double rho = 0, K = 0, thermal_expansion = 0;
+      bool   surface_correction = false;
 
-    bool
-    thermal(const ModelState &state) const
-    {
-      return state.thermal_strain != nullptr;
-    }
-    /// The free thermal stretch of bond i-j, the mean of its ends' (set-up and tangent).
-    double
-    thermal_stretch(const ModelState &state, const unsigned int i, const unsigned int j) const
-    {
-      return thermal(state) ? 0.5 * (state.thermal_strain[i] + state.thermal_strain[j]) : 0.0;
-    }
+      bool
+      thermal(const ModelState &state) const
+      {
+        return state.thermal_strain != nullptr;
+      }
+      /// The free thermal stretch of bond i-j, the mean of its ends' (set-up and tangent).
+      double
+      thermal_stretch(const ModelState &state, const unsigned int i, const unsigned int j) const
+      {
+        return thermal(state) ? 0.5 * (state.thermal_strain[i] + state.thermal_strain[j]) : 0.0;
+      }
 
-    /// sum over the bonds b = i->j of owned point @p i of f(b, j, |xi_ij|,
-    /// beta_ij V_j) (set-up loops).
-    template <typename Function>
-    static double
-    family_sum(const ModelState &state, const unsigned int i, const Function &f)
-    {
-      double sum = 0;
-      for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-        {
-          const unsigned int j = state.bonds.neighbor[b];
-          sum += f(b, j, state.cloud.bond_vector(i, j).norm(), state.cloud.volume[j] * state.bonds.fraction(b));
-        }
-      return sum;
-    }
-
-    /// c of bond @p b between micromoduli @p ci and @p cj: each end's half
-    /// where the bond is in its family (set-up and tangent).
-    static double
-    bond_micromodulus(const Bonds &bonds, const std::size_t b, const double ci, const double cj)
-    {
-      if (bonds.family.empty())
-        return 0.5 * (ci + cj);
-      const std::uint8_t h = bonds.family[b];
-      return 0.5 * ((h & Bonds::own_half ? ci : 0.0) + (h & Bonds::other_half ? cj : 0.0));
-    }
-
-    bool
-    uniform_neighborhood(const ModelState                &state,
-                         const std::vector<unsigned int> &points,
-                         const VectorType                &c) const
-    {
-      // Decided once: the field is constant after set-up.
-      if (uniform_known)
-        return uniform;
-      uniform = true;
-      for (const unsigned int i : points)
+      /// sum over the bonds b = i->j of owned point @p i of f(b, j, |xi_ij|,
+      /// beta_ij V_j) (set-up loops).
+      template <typename Function>
+      static double
+      family_sum(const ModelState &state, const unsigned int i, const Function &f)
+      {
+        double sum = 0;
         for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-          if (c.local_element(state.bonds.neighbor[b]) != micromodulus())
-            uniform = false;
-      uniform_known = true;
-      return uniform;
-    }
-    mutable bool uniform = true, uniform_known = false;
+          {
+            const unsigned int j = state.bonds.neighbor[b];
+            sum += f(b, j, state.cloud.bond_vector(i, j).norm(), state.cloud.volume[j] * state.bonds.fraction(b));
+          }
+        return sum;
+      }
 
-    template <BondDamage mode, bool T>
-    void
-    dispatch(const bool uniform, const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c) const
-    {
-      with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
-        constexpr bool P = decltype(periodic)::value;
-        if (!state.bonds.volume_fraction.empty())
-          state.energy ? kernel<false, mode, true, true, P, T>(state, points, c) :
-                         kernel<false, mode, false, true, P, T>(state, points, c);
-        else if (!state.bonds.family.empty())
-          state.energy ? kernel<false, mode, true, false, P, T, true>(state, points, c) :
-                         kernel<false, mode, false, false, P, T, true>(state, points, c);
-        else if (uniform)
-          state.energy ? kernel<true, mode, true, false, P, T>(state, points, c) :
-                         kernel<true, mode, false, false, P, T>(state, points, c);
-        else
-          state.energy ? kernel<false, mode, true, false, P, T>(state, points, c) :
-                         kernel<false, mode, false, false, P, T>(state, points, c);
-      });
-    }
+      /// c of bond @p b between micromoduli @p ci and @p cj: each end's half
+      /// where the bond is in its family (set-up and tangent).
+      static double
+      bond_micromodulus(const Bonds &bonds, const std::size_t b, const double ci, const double cj)
+      {
+        if (bonds.family.empty())
+          return 0.5 * (ci + cj);
+        const std::uint8_t h = bonds.family[b];
+        return 0.5 * ((h & Bonds::own_half ? ci : 0.0) + (h & Bonds::other_half ? cj : 0.0));
+      }
 
-    /// bond_energies() of point @p i, as kernel() computes the stretch and c.
-    template <bool periodic, bool heated, bool halves, BondDamage mode>
-    void
-    energy_kernel(const ModelState &state, const unsigned int i, double *w) const
-    {
-      const Periodicity   box      = state.cloud.periodicity;
-      const double       *X        = state.cloud.X.data();
-      const double       *u        = state.u;
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      const double       *c        = state.fields.get("pmb_micromodulus").begin();
-      const std::uint8_t *family   = state.bonds.family.data(); // halves only
-      const double       *d        = state.damage;
-      const std::uint8_t *broken   = state.broken;
-      const double       *eps_T    = state.thermal_strain; // heated only
-      const std::size_t   first    = state.bonds.offsets[i], last = state.bonds.offsets[i + 1];
-      const BondOrigin    origin(X, u, i);
-#pragma omp simd
-      for (std::size_t b = first; b < last; ++b)
-        {
-          const unsigned int j = neighbor[b];
-          double             e[3], y[3];
-          bond_vectors<periodic>(X, u, j, origin, box, e, y);
-          const double r0  = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-          const double r   = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-          const double s   = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
-          const double cij = halves ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
-                                             (family[b] & Bonds::other_half ? c[j] : 0.0)) :
-                                      0.5 * (c[i] + c[j]);
-          const double intact = mode == BondDamage::none       ? 1.0 :
-                                mode == BondDamage::continuous ? 1.0 - d[b] :
-                                                                 1.0 - broken[b];
-          w[b - first] = intact * 0.5 * cij * s * s * r0;
-        }
-    }
+      bool
+      uniform_neighborhood(const ModelState                &state,
+                           const std::vector<unsigned int> &points,
+                           const VectorType                &c) const
+      {
+        // Decided once: the field is constant after set-up.
+        if (uniform_known)
+          return uniform;
+        uniform = true;
+        for (const unsigned int i : points)
+          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+            if (c.local_element(state.bonds.neighbor[b]) != micromodulus())
+              uniform = false;
+        uniform_known = true;
+        return uniform;
+      }
+      mutable bool uniform = true, uniform_known = false;
 
-    /// halves: blocks of different horizons (Bonds::family), never with
-    /// partial volumes (their bonds are in both families).
-    template <bool uniform_c, BondDamage mode, bool energy, bool partial, bool periodic, bool heated, bool halves = false>
-    void
-    kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
-    {
-      const Periodicity   box      = state.cloud.periodicity;
-      const double       *X        = state.cloud.X.data();
-      const double       *V        = state.cloud.volume.data();
-      const double       *u        = state.u;
-      const std::size_t  *offsets  = state.bonds.offsets.data();
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      // Breaking writes bond damage; reading only needs the const view.
-      std::uint8_t       *broken = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
-      const std::uint8_t *damage = mode == BondDamage::breaking ? broken : state.broken;
-      const double        limit  = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
-      const double       *d      = state.damage; // continuous only
-      const double       *c      = c_field.begin();
-      const double        c_own  = micromodulus();
-      const float        *beta   = state.bonds.volume_fraction.data();
-      const std::uint8_t *family = state.bonds.family.data();
-      double             *f      = state.force;
-      const double       *eps_T  = state.thermal_strain; // heated only
-      std::size_t         newly_broken = 0;
+      template <BondDamage mode, bool T>
+      void
+      dispatch(const bool uniform, const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c) const
+      {
+        with_flag(state.cloud.periodicity.any(), [&](auto periodic) {
+          constexpr bool P = decltype(periodic)::value;
+          if (!state.bonds.volume_fraction.empty())
+            state.energy ? kernel<false, mode, true, true, P, T>(state, points, c) :
+                           kernel<false, mode, false, true, P, T>(state, points, c);
+          else if (!state.bonds.family.empty())
+            state.energy ? kernel<false, mode, true, false, P, T, true>(state, points, c) :
+                           kernel<false, mode, false, false, P, T, true>(state, points, c);
+          else if (uniform)
+            state.energy ? kernel<true, mode, true, false, P, T>(state, points, c) :
+                           kernel<true, mode, false, false, P, T>(state, points, c);
+          else
+            state.energy ? kernel<false, mode, true, false, P, T>(state, points, c) :
+                           kernel<false, mode, false, false, P, T>(state, points, c);
+        });
+      }
 
-      for (const unsigned int i : points)
-        {
-          const BondOrigin origin(X, u, i);
-          double           fx = 0, fy = 0, fz = 0, w = 0;
-#pragma omp simd reduction(+ : fx, fy, fz, w, newly_broken)
-          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-            {
-              const unsigned int j = neighbor[b];
-              double             e[3], y[3];
-              bond_vectors<periodic>(X, u, j, origin, box, e, y);
-              const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
-              const double       r0sq = ex * ex + ey * ey + ez * ez;
-              const double       rsq  = dx * dx + dy * dy + dz * dz;
-              if (mode == BondDamage::breaking)
-                newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
-              const double r0     = std::sqrt(r0sq);
-              const double r      = std::sqrt(rsq);
-              const double s      = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
-              const double cij    = uniform_c ? c_own :
-                                    halves    ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
-                                                    (family[b] & Bonds::other_half ? c[j] : 0.0)) :
-                                                0.5 * (c[i] + c[j]);
-              const double intact = mode == BondDamage::none       ? 1.0 :
-                                    mode == BondDamage::continuous ? 1.0 - d[b] :
-                                                                     1.0 - damage[b];
-              const double Vj     = partial ? beta[b] * V[j] : V[j];
-              const double k      = intact * cij * s * Vj / r;
-              fx += k * dx;
-              fy += k * dy;
-              fz += k * dz;
-              if (energy)
-                w += intact * 0.25 * cij * s * s * r0 * Vj;
-            }
-          f[3 * i] += fx;
-          f[3 * i + 1] += fy;
-          f[3 * i + 2] += fz;
-          if (energy)
-            state.energy[i] += w;
-        }
-      if (mode == BondDamage::breaking)
-        state.breaking->newly_broken += newly_broken;
-    }
-  };
+      /// bond_energies() of point @p i, as kernel() computes the stretch and c.
+      template <bool periodic, bool heated, bool halves, BondDamage mode>
+      void
+      energy_kernel(const ModelState &state, const unsigned int i, double *w) const
+      {
+        const Periodicity   box      = state.cloud.periodicity;
+        const double       *X        = state.cloud.X.data();
+        const double       *u        = state.u;
+        const unsigned int *neighbor = state.bonds.neighbor.data();
+        const double       *c        = state.fields.get("pmb_micromodulus").begin();
+        const std::uint8_t *family   = state.bonds.family.data(); // halves only
+        const double       *d        = state.damage;
+        const std::uint8_t *broken   = state.broken;
+        const double       *eps_T    = state.thermal_strain; // heated only
+        const std::size_t   first    = state.bonds.offsets[i], last = state.bonds.offsets[i + 1];
+        const BondOrigin    origin(X, u, i);
+  #pragma omp simd
+        for (std::size_t b = first; b < last; ++b)
+          {
+            const unsigned int j = neighbor[b];
+            double             e[3], y[3];
+            bond_vectors<periodic>(X, u, j, origin, box, e, y);
+            const double r0  = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+            const double r   = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+            const double s   = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
+            const double cij = halves ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
+                                               (family[b] & Bonds::other_half ? c[j] : 0.0)) :
+                                        0.5 * (c[i] + c[j]);
+            const double intact = mode == BondDamage::none       ? 1.0 :
+                                  mode == BondDamage::continuous ? 1.0 - d[b] :
+                                                                   1.0 - broken[b];
+            w[b - first] = intact * 0.5 * cij * s * s * r0;
+          }
+      }
+
+      /// halves: blocks of different horizons (Bonds::family), never with
+      /// partial volumes (their bonds are in both families).
+      template <bool uniform_c, BondDamage mode, bool energy, bool partial, bool periodic, bool heated, bool halves = false>
+      void
+      kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
+      {
+        const Periodicity   box      = state.cloud.periodicity;
+        const double       *X        = state.cloud.X.data();
+        const double       *V        = state.cloud.volume.data();
+        const double       *u        = state.u;
+        const std::size_t  *offsets  = state.bonds.offsets.data();
+        const unsigned int *neighbor = state.bonds.neighbor.data();
+        // Breaking writes bond damage; reading only needs the const view.
+        std::uint8_t       *broken = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
+        const std::uint8_t *damage = mode == BondDamage::breaking ? broken : state.broken;
+        const double        limit  = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
+        const double       *d      = state.damage; // continuous only
+        const double       *c      = c_field.begin();
+        const double        c_own  = micromodulus();
+        const float        *beta   = state.bonds.volume_fraction.data();
+        const std::uint8_t *family = state.bonds.family.data();
+        double             *f      = state.force;
+        const double       *eps_T  = state.thermal_strain; // heated only
+        std::size_t         newly_broken = 0;
+
+        for (const unsigned int i : points)
+          {
+            const BondOrigin origin(X, u, i);
+            double           fx = 0, fy = 0, fz = 0, w = 0;
+  #pragma omp simd reduction(+ : fx, fy, fz, w, newly_broken)
+            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+              {
+                const unsigned int j = neighbor[b];
+                double             e[3], y[3];
+                bond_vectors<periodic>(X, u, j, origin, box, e, y);
+                const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
+                const double       r0sq = ex * ex + ey * ey + ez * ez;
+                const double       rsq  = dx * dx + dy * dy + dz * dz;
+                if (mode == BondDamage::breaking)
+                  newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
+                const double r0     = std::sqrt(r0sq);
+                const double r      = std::sqrt(rsq);
+                const double s      = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
+                const double cij    = uniform_c ? c_own :
+                                      halves    ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
+                                                      (family[b] & Bonds::other_half ? c[j] : 0.0)) :
+                                                  0.5 * (c[i] + c[j]);
+                const double intact = mode == BondDamage::none       ? 1.0 :
+                                      mode == BondDamage::continuous ? 1.0 - d[b] :
+                                                                       1.0 - damage[b];
+                const double Vj     = partial ? beta[b] * V[j] : V[j];
+                const double k      = intact * cij * s * Vj / r;
+                fx += k * dx;
+                fy += k * dy;
+                fz += k * dz;
+                if (energy)
+                  w += intact * 0.25 * cij * s * s * r0 * Vj;
+              }
+            f[3 * i] += fx;
+            f[3 * i + 1] += fy;
+            f[3 * i + 2] += fz;
+            if (energy)
+              state.energy[i] += w;
+          }
+        if (mode == BondDamage::breaking)
+          state.breaking->newly_broken += newly_broken;
+      }
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(Material, PMB, "PMB",
                     "Prototype microelastic brittle, bond based (Peridigm's 'Elastic "

@@ -39,263 +39,266 @@ namespace perideal
 {
   using namespace dealii;
 
-  class Viscoelastic : public OrdinaryStateMaterial
+  namespace
   {
-  public:
-    Viscoelastic()
-      : OrdinaryStateMaterial("ves_")
-    {}
+    class Viscoelastic : public OrdinaryStateMaterial
+    {
+    public:
+      Viscoelastic()
+        : OrdinaryStateMaterial("ves_")
+      {}
 
-    static void
-    declare_parameters(ParameterHandler &prm)
-    {
-      prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
-      declare_elastic_constants(prm); // G, E, nu: the instantaneous ones (t = 0+)
-      prm.declare_entry("Relaxation time", "1", Patterns::Double(),
-                        "tau_b > 0 of the Maxwell element (Peridigm's 'tau b').");
-      prm.declare_entry("Viscous fraction", "0.5", Patterns::Double(),
-                        "lambda_i in [0, 1]: the share of G that relaxes; the long-time shear modulus is "
-                        "(1 - lambda_i) G (Peridigm's 'lambda_i').");
-      declare_thermal_expansion(prm);
-    }
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Density", "0", Patterns::Double(), "Mass density rho.");
+        declare_elastic_constants(prm); // G, E, nu: the instantaneous ones (t = 0+)
+        prm.declare_entry("Relaxation time", "1", Patterns::Double(),
+                          "tau_b > 0 of the Maxwell element (Peridigm's 'tau b').");
+        prm.declare_entry("Viscous fraction", "0.5", Patterns::Double(),
+                          "lambda_i in [0, 1]: the share of G that relaxes; the long-time shear modulus is "
+                          "(1 - lambda_i) G (Peridigm's 'lambda_i').");
+        declare_thermal_expansion(prm);
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
-    {
-      rho = prm.get_double("Density");
-      require_positive(rho, path + "/Density");
-      const ElasticConstants moduli = parse_elastic_constants(prm, path);
-      K                             = moduli.K;
-      G                             = moduli.G;
-      tau                           = prm.get_double("Relaxation time");
-      lambda_i                      = prm.get_double("Viscous fraction");
-      alpha_T                       = parse_thermal_expansion(prm, path);
-      require_positive(tau, path + "/Relaxation time");
-      AssertThrow(lambda_i >= 0 && lambda_i <= 1,
-                  ExcMessage(path + "/Viscous fraction must be in [0, 1], got " + prm.get("Viscous fraction")));
-      material_path = path;
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        rho = prm.get_double("Density");
+        require_positive(rho, path + "/Density");
+        const ElasticConstants moduli = parse_elastic_constants(prm, path);
+        K                             = moduli.K;
+        G                             = moduli.G;
+        tau                           = prm.get_double("Relaxation time");
+        lambda_i                      = prm.get_double("Viscous fraction");
+        alpha_T                       = parse_thermal_expansion(prm, path);
+        require_positive(tau, path + "/Relaxation time");
+        AssertThrow(lambda_i >= 0 && lambda_i <= 1,
+                    ExcMessage(path + "/Viscous fraction must be in [0, 1], got " + prm.get("Viscous fraction")));
+        material_path = path;
+      }
 
-    double
-    density() const override
-    {
-      return rho;
-    }
-    double
-    bulk_modulus() const override
-    {
-      return K;
-    }
-    double
-    thermal_expansion_coefficient() const override
-    {
-      return alpha_T;
-    }
-    double
-    shear_modulus() const override
-    {
-      return G;
-    }
+      double
+      density() const override
+      {
+        return rho;
+      }
+      double
+      bulk_modulus() const override
+      {
+        return K;
+      }
+      double
+      thermal_expansion_coefficient() const override
+      {
+        return alpha_T;
+      }
+      double
+      shear_modulus() const override
+      {
+        return G;
+      }
 
-    std::vector<PointField>
-    point_fields() const override
-    {
-      std::vector<PointField> fields = family.constant_fields();
-      fields.insert(fields.end(),
-                    {{"ves_dilatation", FieldUse::stage},
-                     {"ves_dissipation", FieldUse::history, 1, "Viscous dissipation density", true}});
-      return fields;
-    }
+      std::vector<PointField>
+      point_fields() const override
+      {
+        std::vector<PointField> fields = family.constant_fields();
+        fields.insert(fields.end(),
+                      {{"ves_dilatation", FieldUse::stage},
+                       {"ves_dissipation", FieldUse::history, 1, "Viscous dissipation density", true}});
+        return fields;
+      }
 
-    std::vector<BondField>
-    bond_fields() const override
-    {
-      // e^d and e^b of the bond's own half, and replicas of the other end's; rewritten
-      // whole at every evaluation (force()): commit() swaps N and NP1.
-      return with_work_fields({{"ves_ed", true}, {"ves_eb", true}, {"ves_ed_other", true}, {"ves_eb_other", true}});
-    }
+      std::vector<BondField>
+      bond_fields() const override
+      {
+        // e^d and e^b of the bond's own half, and replicas of the other end's; rewritten
+        // whole at every evaluation (force()): commit() swaps N and NP1.
+        return with_work_fields({{"ves_ed", true}, {"ves_eb", true}, {"ves_ed_other", true}, {"ves_eb_other", true}});
+      }
 
-    void
-    initialize(const ModelState &state, const std::vector<unsigned int> &points) override
-    {
-      family.initialize(state, points, K, G, material_path, "Viscoelastic");
-    }
+      void
+      initialize(const ModelState &state, const std::vector<unsigned int> &points) override
+      {
+        family.initialize(state, points, K, G, material_path, "Viscoelastic");
+      }
 
-    void
-    compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      OrdinaryState::stage_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
-        stage<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value, decltype(B)::value>(
-          state, points);
-      });
-    }
+      void
+      compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        OrdinaryState::stage_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
+          stage<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value, decltype(B)::value>(
+            state, points);
+        });
+      }
 
-    void
-    compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      force_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
-        constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
-                       t = decltype(T)::value, b = decltype(B)::value;
-        if (state.energy)
-          force<w, p, d, t, true, b>(state, points);
-        else
-          force<w, p, d, t, false, b>(state, points);
-      });
-    }
+      void
+      compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        force_variants(state, [&](auto W, auto P, auto D, auto T, auto B) {
+          constexpr bool w = decltype(W)::value, p = decltype(P)::value, d = decltype(D)::value,
+                         t = decltype(T)::value, b = decltype(B)::value;
+          if (state.energy)
+            force<w, p, d, t, true, b>(state, points);
+          else
+            force<w, p, d, t, false, b>(state, points);
+        });
+      }
 
-    bool
-    fuses_stretch_criterion() const override
-    {
-      return true; // in stage()
-    }
+      bool
+      fuses_stretch_criterion() const override
+      {
+        return true; // in stage()
+      }
 
-    double
-    stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      // The instantaneous moduli: the stiffest response, the dashpot's spring unrelaxed.
-      return family.stable_time_step(state, points, rho);
-    }
+      double
+      stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        // The instantaneous moduli: the stiffest response, the dashpot's spring unrelaxed.
+        return family.stable_time_step(state, points, rho);
+      }
 
-    bool
-    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
-    {
-      // e^b_NP1 moves with e^d by beta (the step's integration weight), so the
-      // deviatoric half alpha_i (e^d - lambda_i e^b) has the modulus alpha_i
-      // (1 - lambda_i beta): LPS's tangent with it (ordinary_state.h).
-      const double       *kappa   = state.fields.get(family.kappa).begin();
-      const double       *alpha   = state.fields.get(family.alpha).begin();
-      const double       *theta   = state.fields.get("ves_dilatation").begin();
-      const double       *ed_N    = state.fields.bond_old("ves_ed");
-      const double       *eb_N    = state.fields.bond_old("ves_eb");
-      const double       *edo_N   = state.fields.bond_old("ves_ed_other");
-      const double       *ebo_N   = state.fields.bond_old("ves_eb_other");
-      const double        dt      = state.dt;
-      const double        decay   = dt > 0 ? std::exp(-dt / tau) : 1.0;
-      const double        beta    = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
-      const unsigned int  n_local = state.cloud.n_local();
-      std::vector<double> deviatoric(n_local);
-      for (unsigned int i = 0; i < n_local; ++i)
-        deviatoric[i] = alpha[i] * (1 - lambda_i * beta);
-      family.add_tangent(state, points, rows, theta, deviatoric.data(), nullptr, nullptr,
-                         [&](const unsigned int i, const std::size_t b, const unsigned int j, const double e,
-                             const double r0) {
-                           const double edi = e - theta[i] * r0 / 3, edj = e - theta[j] * r0 / 3;
-                           const double ebi = eb_N[b] * decay + ed_N[b] * (1 - decay) + beta * (edi - ed_N[b]);
-                           const double ebj = ebo_N[b] * decay + edo_N[b] * (1 - decay) + beta * (edj - edo_N[b]);
-                           return OrdinaryState::bond_weight(state, b) *
-                                  (r0 * (kappa[i] * theta[i] + kappa[j] * theta[j]) + alpha[i] * (edi - lambda_i * ebi) +
-                                   alpha[j] * (edj - lambda_i * ebj));
-                         });
-      return true;
-    }
+      bool
+      add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+      {
+        // e^b_NP1 moves with e^d by beta (the step's integration weight), so the
+        // deviatoric half alpha_i (e^d - lambda_i e^b) has the modulus alpha_i
+        // (1 - lambda_i beta): LPS's tangent with it (ordinary_state.h).
+        const double       *kappa   = state.fields.get(family.kappa).begin();
+        const double       *alpha   = state.fields.get(family.alpha).begin();
+        const double       *theta   = state.fields.get("ves_dilatation").begin();
+        const double       *ed_N    = state.fields.bond_old("ves_ed");
+        const double       *eb_N    = state.fields.bond_old("ves_eb");
+        const double       *edo_N   = state.fields.bond_old("ves_ed_other");
+        const double       *ebo_N   = state.fields.bond_old("ves_eb_other");
+        const double        dt      = state.dt;
+        const double        decay   = dt > 0 ? std::exp(-dt / tau) : 1.0;
+        const double        beta    = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
+        const unsigned int  n_local = state.cloud.n_local();
+        std::vector<double> deviatoric(n_local);
+        for (unsigned int i = 0; i < n_local; ++i)
+          deviatoric[i] = alpha[i] * (1 - lambda_i * beta);
+        family.add_tangent(state, points, rows, theta, deviatoric.data(), nullptr, nullptr,
+                           [&](const unsigned int i, const std::size_t b, const unsigned int j, const double e,
+                               const double r0) {
+                             const double edi = e - theta[i] * r0 / 3, edj = e - theta[j] * r0 / 3;
+                             const double ebi = eb_N[b] * decay + ed_N[b] * (1 - decay) + beta * (edi - ed_N[b]);
+                             const double ebj = ebo_N[b] * decay + edo_N[b] * (1 - decay) + beta * (edj - edo_N[b]);
+                             return OrdinaryState::bond_weight(state, b) *
+                                    (r0 * (kappa[i] * theta[i] + kappa[j] * theta[j]) + alpha[i] * (edi - lambda_i * ebi) +
+                                     alpha[j] * (edj - lambda_i * ebj));
+                           });
+        return true;
+      }
 
-  private:
-    double              rho = 0, K = 0, G = 0, tau = 1, lambda_i = 0.5, alpha_T = 0;
-    std::string         material_path;
+    private:
+      double              rho = 0, K = 0, G = 0, tau = 1, lambda_i = 0.5, alpha_T = 0;
+      std::string         material_path;
 
-    /// The dilatation; with @p breaking, first the fused critical stretch.
-    template <bool weighted, bool periodic, bool damaged, bool thermal, bool breaking>
-    void
-    stage(const ModelState &state, const std::vector<unsigned int> &points) const
-    {
-      std::size_t         newly_broken = 0;
-      const double       *V        = state.cloud.volume.data();
-      const std::size_t  *offsets  = state.bonds.offsets.data();
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      const double       *m        = state.fields.get(family.weighted_volume).begin();
-      double             *theta    = state.fields.get("ves_dilatation").begin();
-      for (const unsigned int i : points)
-        {
-          const BondOrigin origin(state.cloud.X.data(), state.u, i);
-          double           sum = 0;
-          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-            {
-              if constexpr (breaking)
-                newly_broken += OrdinaryState::break_bond<periodic>(state, origin, neighbor[b], b);
-              double y[3], r0, r, e;
-              OrdinaryState::bond<periodic, thermal>(state, origin, i, neighbor[b], y, r0, r, e);
-              sum += OrdinaryState::weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
-            }
-          theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
-        }
-      if constexpr (breaking)
-        state.breaking->newly_broken += newly_broken;
-    }
+      /// The dilatation; with @p breaking, first the fused critical stretch.
+      template <bool weighted, bool periodic, bool damaged, bool thermal, bool breaking>
+      void
+      stage(const ModelState &state, const std::vector<unsigned int> &points) const
+      {
+        std::size_t         newly_broken = 0;
+        const double       *V        = state.cloud.volume.data();
+        const std::size_t  *offsets  = state.bonds.offsets.data();
+        const unsigned int *neighbor = state.bonds.neighbor.data();
+        const double       *m        = state.fields.get(family.weighted_volume).begin();
+        double             *theta    = state.fields.get("ves_dilatation").begin();
+        for (const unsigned int i : points)
+          {
+            const BondOrigin origin(state.cloud.X.data(), state.u, i);
+            double           sum = 0;
+            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+              {
+                if constexpr (breaking)
+                  newly_broken += OrdinaryState::break_bond<periodic>(state, origin, neighbor[b], b);
+                double y[3], r0, r, e;
+                OrdinaryState::bond<periodic, thermal>(state, origin, i, neighbor[b], y, r0, r, e);
+                sum += OrdinaryState::weight<weighted, damaged>(state, b) * r0 * e * V[neighbor[b]];
+              }
+            theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
+          }
+        if constexpr (breaking)
+          state.breaking->newly_broken += newly_broken;
+      }
 
-    template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy, bool bond_work>
-    void
-    force(const ModelState &state, const std::vector<unsigned int> &points) const
-    {
-      const auto work_update = bond_work ? OrdinaryState::WorkUpdate(state, family) : OrdinaryState::WorkUpdate();
-      const double       *V        = state.cloud.volume.data();
-      const std::size_t  *offsets  = state.bonds.offsets.data();
-      const unsigned int *neighbor = state.bonds.neighbor.data();
-      const double       *kappa    = state.fields.get(family.kappa).begin();
-      const double       *alpha    = state.fields.get(family.alpha).begin();
-      const double       *theta    = state.fields.get("ves_dilatation").begin();
-      const double       *D_N      = state.fields.old("ves_dissipation").begin();
-      double             *Dv       = state.fields.get("ves_dissipation").begin();
-      const double       *ed_N     = state.fields.bond_old("ves_ed");
-      const double       *eb_N     = state.fields.bond_old("ves_eb");
-      const double       *edo_N    = state.fields.bond_old("ves_ed_other");
-      const double       *ebo_N    = state.fields.bond_old("ves_eb_other");
-      double             *ed_NP1   = state.fields.bond("ves_ed");
-      double             *eb_NP1   = state.fields.bond("ves_eb");
-      double             *edo_NP1  = state.fields.bond("ves_ed_other");
-      double             *ebo_NP1  = state.fields.bond("ves_eb_other");
-      double             *f        = state.force;
-      // The step's exact integration weights; dt = 0: the limit, e^b frozen.
-      const double dt     = state.dt;
-      const double decay  = dt > 0 ? std::exp(-dt / tau) : 1.0;
-      const double beta   = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
-      const double l_inf  = 1 - lambda_i;
-      for (const unsigned int i : points)
-        {
-          const BondOrigin origin(state.cloud.X.data(), state.u, i);
-          const double     ti = theta[i], ki = kappa[i] * ti, ai = alpha[i];
-          double           fx = 0, fy = 0, fz = 0, Wd = 0, rate_N = 0, rate = 0;
-          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-            {
-              const unsigned int j = neighbor[b];
-              double             y[3], r0, r, e;
-              OrdinaryState::bond<periodic, thermal>(state, origin, i, j, y, r0, r, e);
-              const double edi = e - ti * r0 / 3;
-              const double edj = e - theta[j] * r0 / 3;
-              const double ebi = eb_N[b] * decay + ed_N[b] * (1 - decay) + beta * (edi - ed_N[b]);
-              const double ebj = ebo_N[b] * decay + edo_N[b] * (1 - decay) + beta * (edj - edo_N[b]);
-              ed_NP1[b]        = edi;
-              eb_NP1[b]        = ebi;
-              edo_NP1[b]       = edj;
-              ebo_NP1[b]       = ebj;
-              const double w   = OrdinaryState::weight<weighted, damaged>(state, b);
-              const double t   = w * (r0 * (ki + kappa[j] * theta[j]) + ai * (edi - lambda_i * ebi) +
-                                    alpha[j] * (edj - lambda_i * ebj));
-              // t again, with the two ends' terms added alike on both owners.
-              if constexpr (bond_work)
-                work_update.add(b,
-                                w * (r0 * OrdinaryState::symmetric_sum(ki, kappa[j] * theta[j]) +
-                                     OrdinaryState::symmetric_sum(ai * (edi - lambda_i * ebi),
-                                                                  alpha[j] * (edj - lambda_i * ebj))),
-                                e);
-              const double k   = t * V[j] / r;
-              fx += k * y[0];
-              fy += k * y[1];
-              fz += k * y[2];
-              const double v_N = ed_N[b] - eb_N[b], v = edi - ebi;
-              rate_N += w * v_N * v_N * V[j];
-              rate += w * v * v * V[j];
-              if (energy)
-                Wd += w * (l_inf * edi * edi + lambda_i * v * v) * V[j];
-            }
-          f[3 * i] += fx;
-          f[3 * i + 1] += fy;
-          f[3 * i + 2] += fz;
-          Dv[i] = D_N[i] + 0.5 * dt * ai * lambda_i / tau * (rate_N + rate);
-          if (energy)
-            state.energy[i] += 0.5 * K * ti * ti + 0.5 * ai * Wd;
-        }
-    }
-  };
+      template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy, bool bond_work>
+      void
+      force(const ModelState &state, const std::vector<unsigned int> &points) const
+      {
+        const auto work_update = bond_work ? OrdinaryState::WorkUpdate(state, family) : OrdinaryState::WorkUpdate();
+        const double       *V        = state.cloud.volume.data();
+        const std::size_t  *offsets  = state.bonds.offsets.data();
+        const unsigned int *neighbor = state.bonds.neighbor.data();
+        const double       *kappa    = state.fields.get(family.kappa).begin();
+        const double       *alpha    = state.fields.get(family.alpha).begin();
+        const double       *theta    = state.fields.get("ves_dilatation").begin();
+        const double       *D_N      = state.fields.old("ves_dissipation").begin();
+        double             *Dv       = state.fields.get("ves_dissipation").begin();
+        const double       *ed_N     = state.fields.bond_old("ves_ed");
+        const double       *eb_N     = state.fields.bond_old("ves_eb");
+        const double       *edo_N    = state.fields.bond_old("ves_ed_other");
+        const double       *ebo_N    = state.fields.bond_old("ves_eb_other");
+        double             *ed_NP1   = state.fields.bond("ves_ed");
+        double             *eb_NP1   = state.fields.bond("ves_eb");
+        double             *edo_NP1  = state.fields.bond("ves_ed_other");
+        double             *ebo_NP1  = state.fields.bond("ves_eb_other");
+        double             *f        = state.force;
+        // The step's exact integration weights; dt = 0: the limit, e^b frozen.
+        const double dt     = state.dt;
+        const double decay  = dt > 0 ? std::exp(-dt / tau) : 1.0;
+        const double beta   = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
+        const double l_inf  = 1 - lambda_i;
+        for (const unsigned int i : points)
+          {
+            const BondOrigin origin(state.cloud.X.data(), state.u, i);
+            const double     ti = theta[i], ki = kappa[i] * ti, ai = alpha[i];
+            double           fx = 0, fy = 0, fz = 0, Wd = 0, rate_N = 0, rate = 0;
+            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+              {
+                const unsigned int j = neighbor[b];
+                double             y[3], r0, r, e;
+                OrdinaryState::bond<periodic, thermal>(state, origin, i, j, y, r0, r, e);
+                const double edi = e - ti * r0 / 3;
+                const double edj = e - theta[j] * r0 / 3;
+                const double ebi = eb_N[b] * decay + ed_N[b] * (1 - decay) + beta * (edi - ed_N[b]);
+                const double ebj = ebo_N[b] * decay + edo_N[b] * (1 - decay) + beta * (edj - edo_N[b]);
+                ed_NP1[b]        = edi;
+                eb_NP1[b]        = ebi;
+                edo_NP1[b]       = edj;
+                ebo_NP1[b]       = ebj;
+                const double w   = OrdinaryState::weight<weighted, damaged>(state, b);
+                const double t   = w * (r0 * (ki + kappa[j] * theta[j]) + ai * (edi - lambda_i * ebi) +
+                                      alpha[j] * (edj - lambda_i * ebj));
+                // t again, with the two ends' terms added alike on both owners.
+                if constexpr (bond_work)
+                  work_update.add(b,
+                                  w * (r0 * OrdinaryState::symmetric_sum(ki, kappa[j] * theta[j]) +
+                                       OrdinaryState::symmetric_sum(ai * (edi - lambda_i * ebi),
+                                                                    alpha[j] * (edj - lambda_i * ebj))),
+                                  e);
+                const double k   = t * V[j] / r;
+                fx += k * y[0];
+                fy += k * y[1];
+                fz += k * y[2];
+                const double v_N = ed_N[b] - eb_N[b], v = edi - ebi;
+                rate_N += w * v_N * v_N * V[j];
+                rate += w * v * v * V[j];
+                if (energy)
+                  Wd += w * (l_inf * edi * edi + lambda_i * v * v) * V[j];
+              }
+            f[3 * i] += fx;
+            f[3 * i + 1] += fy;
+            f[3 * i + 2] += fz;
+            Dv[i] = D_N[i] + 0.5 * dt * ai * lambda_i / tau * (rate_N + rate);
+            if (energy)
+              state.energy[i] += 0.5 * K * ti * ti + 0.5 * ai * Wd;
+          }
+      }
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(Material, Viscoelastic, "Viscoelastic",
                     "Mitchell's ordinary state-based viscoelastic solid: LPS (omega = 1) with an elastic "

@@ -16,166 +16,169 @@ namespace perideal
 {
   using namespace dealii;
 
-  class Newmark : public ImplicitIntegrator
+  namespace
   {
-  public:
-    // Solver/Implicit/Newmark beta and gamma, next to the Newton keys they
-    // go with.
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class Newmark : public ImplicitIntegrator
     {
-      prm.enter_subsection("Implicit");
-      prm.declare_entry("Newmark beta", "0.25", Patterns::Double(0, 0.5),
-                        "Newmark's beta; 1/4 with gamma 1/2 is the trapezoidal rule: unconditionally "
-                        "stable, second order, no numerical damping.");
-      prm.declare_entry("Newmark gamma", "0.5", Patterns::Double(0, 1),
-                        "Newmark's gamma; above 1/2 damps high frequencies (unconditionally stable for "
-                        "gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4).");
-      prm.leave_subsection();
-    }
+    public:
+      // Solver/Implicit/Newmark beta and gamma, next to the Newton keys they
+      // go with.
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Implicit");
+        prm.declare_entry("Newmark beta", "0.25", Patterns::Double(0, 0.5),
+                          "Newmark's beta; 1/4 with gamma 1/2 is the trapezoidal rule: unconditionally "
+                          "stable, second order, no numerical damping.");
+        prm.declare_entry("Newmark gamma", "0.5", Patterns::Double(0, 1),
+                          "Newmark's gamma; above 1/2 damps high frequencies (unconditionally stable for "
+                          "gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4).");
+        prm.leave_subsection();
+      }
 
-    void
-    parse_parameters(ParameterHandler &prm) override
-    {
-      prm.enter_subsection("Implicit");
-      beta  = prm.get_double("Newmark beta");
-      gamma = prm.get_double("Newmark gamma");
-      prm.leave_subsection();
-      // Below 1/2 Newmark's numerical damping is negative: the energy grows
-      // every step, whatever the step (a run of box.prm with gamma = 0: 18%
-      // energy error in two steps, exit 0).
-      AssertThrow(gamma >= 0.5,
-                  ExcMessage("Solver/Implicit/Newmark gamma must be at least 0.5, got " +
-                             Utilities::to_string(gamma) +
-                             ": below it the scheme adds energy every step (unstable for any time step); "
-                             "0.5 conserves energy, more damps it"));
-      AssertThrow(beta > 0, ExcMessage("Solver/Implicit/Newmark beta must be positive (beta = 0 is the explicit "
-                                       "central difference: use Solver/Type = Verlet)"));
-    }
+      void
+      parse_parameters(ParameterHandler &prm) override
+      {
+        prm.enter_subsection("Implicit");
+        beta  = prm.get_double("Newmark beta");
+        gamma = prm.get_double("Newmark gamma");
+        prm.leave_subsection();
+        // Below 1/2 Newmark's numerical damping is negative: the energy grows
+        // every step, whatever the step (a run of box.prm with gamma = 0: 18%
+        // energy error in two steps, exit 0).
+        AssertThrow(gamma >= 0.5,
+                    ExcMessage("Solver/Implicit/Newmark gamma must be at least 0.5, got " +
+                               Utilities::to_string(gamma) +
+                               ": below it the scheme adds energy every step (unstable for any time step); "
+                               "0.5 conserves energy, more damps it"));
+        AssertThrow(beta > 0, ExcMessage("Solver/Implicit/Newmark beta must be positive (beta = 0 is the explicit "
+                                         "central difference: use Solver/Type = Verlet)"));
+      }
 
-    void
-    check_parameters(const SolverParameters &solver, const bool has_continuum) const override
-    {
-      AssertThrow(solver.requested_steps > 0 && solver.final_time > solver.initial_time,
-                  ExcMessage("Solver/Number of steps and Final time: the Newmark solver takes Number of steps "
-                             "equal steps from Initial time to Final time; set both"));
-      check_jacobian(solver, has_continuum);
-    }
+      void
+      check_parameters(const SolverParameters &solver, const bool has_continuum) const override
+      {
+        AssertThrow(solver.requested_steps > 0 && solver.final_time > solver.initial_time,
+                    ExcMessage("Solver/Number of steps and Final time: the Newmark solver takes Number of steps "
+                               "equal steps from Initial time to Final time; set both"));
+        check_jacobian(solver, has_continuum);
+      }
 
-    void
-    run() override
-    {
+      void
+      run() override
+      {
+        do_initial_timestep();
+        for (step = 1; step <= n_steps; ++step)
+          do_timestep();
+        finish();
+      }
+
+      void
+      report_summary_step() const override
+      {
+        const RunRecord &record = access->record;
+        access->pcout << "  time step:              " << sci(record.dt, 6) << " ("
+                      << sci(record.dt / record.dt_stable, 3) << " x the explicit stable estimate "
+                      << sci(record.dt_stable, 6) << ")\n";
+      }
+
+    protected:
+      bool
+      need_supports() const override
+      {
+        return false;
+      }
+
+    private:
+      void
       do_initial_timestep();
-      for (step = 1; step <= n_steps; ++step)
-        do_timestep();
+      void
+      do_timestep();
+      void
       finish();
-    }
+
+      unsigned int n_steps = 0, step = 0;
+      double       t0 = 0, beta = 0.25, gamma = 0.5;
+      std::vector<double>              v_predicted; // per DoF
+    };
 
     void
-    report_summary_step() const override
+    Newmark::do_initial_timestep()
     {
-      const RunRecord &record = access->record;
-      access->pcout << "  time step:              " << sci(record.dt, 6) << " ("
-                    << sci(record.dt / record.dt_stable, 3) << " x the explicit stable estimate "
-                    << sci(record.dt_stable, 6) << ")\n";
+      const SolverParameters &solver = access->deck.solver;
+      MechanicalState        &state  = access->state;
+      n_steps                        = solver.requested_steps;
+      t0                             = solver.initial_time;
+      access->record.dt              = (solver.final_time - solver.initial_time) / n_steps;
+      access->post.output.initialize(access->comm);
+      access->conditions.apply_initial_conditions(solver.initial_time);
+      access->model.breaking_allowed = false;
+      ImplicitSolver &newton         = make_solver();
+      access->stop_if_interrupted_in_setup();
+
+      // The initial acceleration from the equation of motion (virtual points
+      // have no mass: they follow the FE field).
+      access->evaluate_initial_state();
+      state.acceleration.assign(state.size(), 0.0);
+      state.for_each([&](const MechanicalState::DoF &d) {
+        state.acceleration[d.number] = d.density > 0 ? d.f / d.density : 0.0;
+      });
+      access->record_initial_state(n_steps, t0);
+      access->pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of "
+                    << sci(access->record.dt, 6) << " from t = " << t0 << "; tangent " << newton.describe_tangent()
+                    << std::endl;
+
+      v_predicted.assign(state.size(), 0.0);
+      newton.u_predicted.assign(state.size(), 0.0);
+      start_loop();
     }
 
-  protected:
-    bool
-    need_supports() const override
+    void
+    Newmark::do_timestep()
     {
-      return false;
+      MechanicalState    &state      = access->state;
+      RunRecord          &record     = access->record;
+      ConditionSet       &conditions = access->conditions;
+      ImplicitSolver     &newton     = *implicit_solver;
+      const double        dt         = record.dt;
+      const double        time       = t0 + step * dt;
+      std::vector<double> &a         = state.acceleration;
+
+      access->pcout << "Step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
+      const ImplicitSolver::LoadPathState step_start = newton.load_path_state();
+      state.for_each([&](const MechanicalState::DoF &d) {
+        const unsigned int k  = d.number;
+        newton.u_predicted[k] = d.u + dt * d.v + 0.5 * dt * dt * (1 - 2 * beta) * a[k];
+        v_predicted[k]        = d.v + dt * (1 - gamma) * a[k];
+        d.u                   = newton.u_predicted[k];
+      });
+      conditions.apply_prescribed(time, dt);
+      access->model.set_time(time, dt);
+      if (conditions.loads_depend_on_time)
+        conditions.evaluate_loads(time);
+      conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
+      newton.newmark_inertia = 1 / (beta * dt * dt);
+      newton.solve_step(step);
+      state.for_each([&](const MechanicalState::DoF &d) {
+        const unsigned int k = d.number;
+        a[k]                 = (d.u - newton.u_predicted[k]) * newton.newmark_inertia;
+        d.v                  = v_predicted[k] + gamma * dt * a[k];
+      });
+      state.distribute_velocity();
+      finish_step(step_start, step, time, n_steps);
     }
 
-  private:
     void
-    do_initial_timestep();
-    void
-    do_timestep();
-    void
-    finish();
-
-    unsigned int n_steps = 0, step = 0;
-    double       t0 = 0, beta = 0.25, gamma = 0.5;
-    std::vector<double>              v_predicted; // per DoF
-  };
-
-  void
-  Newmark::do_initial_timestep()
-  {
-    const SolverParameters &solver = access->deck.solver;
-    MechanicalState        &state  = access->state;
-    n_steps                        = solver.requested_steps;
-    t0                             = solver.initial_time;
-    access->record.dt              = (solver.final_time - solver.initial_time) / n_steps;
-    access->post.output.initialize(access->comm);
-    access->conditions.apply_initial_conditions(solver.initial_time);
-    access->model.breaking_allowed = false;
-    ImplicitSolver &newton         = make_solver();
-    access->stop_if_interrupted_in_setup();
-
-    // The initial acceleration from the equation of motion (virtual points
-    // have no mass: they follow the FE field).
-    access->evaluate_initial_state();
-    state.acceleration.assign(state.size(), 0.0);
-    state.for_each([&](const MechanicalState::DoF &d) {
-      state.acceleration[d.number] = d.density > 0 ? d.f / d.density : 0.0;
-    });
-    access->record_initial_state(n_steps, t0);
-    access->pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of "
-                  << sci(access->record.dt, 6) << " from t = " << t0 << "; tangent " << newton.describe_tangent()
-                  << std::endl;
-
-    v_predicted.assign(state.size(), 0.0);
-    newton.u_predicted.assign(state.size(), 0.0);
-    start_loop();
-  }
-
-  void
-  Newmark::do_timestep()
-  {
-    MechanicalState    &state      = access->state;
-    RunRecord          &record     = access->record;
-    ConditionSet       &conditions = access->conditions;
-    ImplicitSolver     &newton     = *implicit_solver;
-    const double        dt         = record.dt;
-    const double        time       = t0 + step * dt;
-    std::vector<double> &a         = state.acceleration;
-
-    access->pcout << "Step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
-    const ImplicitSolver::LoadPathState step_start = newton.load_path_state();
-    state.for_each([&](const MechanicalState::DoF &d) {
-      const unsigned int k  = d.number;
-      newton.u_predicted[k] = d.u + dt * d.v + 0.5 * dt * dt * (1 - 2 * beta) * a[k];
-      v_predicted[k]        = d.v + dt * (1 - gamma) * a[k];
-      d.u                   = newton.u_predicted[k];
-    });
-    conditions.apply_prescribed(time, dt);
-    access->model.set_time(time, dt);
-    if (conditions.loads_depend_on_time)
-      conditions.evaluate_loads(time);
-    conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
-    newton.newmark_inertia = 1 / (beta * dt * dt);
-    newton.solve_step(step);
-    state.for_each([&](const MechanicalState::DoF &d) {
-      const unsigned int k = d.number;
-      a[k]                 = (d.u - newton.u_predicted[k]) * newton.newmark_inertia;
-      d.v                  = v_predicted[k] + gamma * dt * a[k];
-    });
-    state.distribute_velocity();
-    finish_step(step_start, step, time, n_steps);
-  }
-
-  void
-  Newmark::finish()
-  {
-    const double seconds = loop_seconds();
-    access->pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
-                  << " " << access->deck.solver.implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s"
-                  << std::endl;
-    access->post.global_quantities(n_steps, t0 + n_steps * access->record.dt);
-    access->post.print_summary(seconds, n_steps);
-  }
+    Newmark::finish()
+    {
+      const double seconds = loop_seconds();
+      access->pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
+                    << " " << access->deck.solver.implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s"
+                    << std::endl;
+      access->post.global_quantities(n_steps, t0 + n_steps * access->record.dt);
+      access->post.print_summary(seconds, n_steps);
+    }
+  } // namespace
 
   PERIDEAL_REGISTER(TimeIntegrator, Newmark, "Newmark",
                     "implicit dynamics, Number of steps equal steps from Initial time to Final time, each solved "

@@ -17,109 +17,112 @@ namespace perideal
 {
   using namespace dealii;
 
-  class QuasiStatic : public ImplicitIntegrator
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &)
-    {}
-
-    void
-    check_parameters(const SolverParameters &solver, const bool has_continuum) const override
+    class QuasiStatic : public ImplicitIntegrator
     {
-      AssertThrow(solver.requested_steps > 0,
-                  ExcMessage("Solver/Number of steps: the quasistatic solver needs the number of load steps (> 0)"));
-      check_jacobian(solver, has_continuum);
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &)
+      {}
 
-    std::string
-    loop_name() const override
-    {
-      return "load steps";
-    }
+      void
+      check_parameters(const SolverParameters &solver, const bool has_continuum) const override
+      {
+        AssertThrow(solver.requested_steps > 0,
+                    ExcMessage("Solver/Number of steps: the quasistatic solver needs the number of load steps (> 0)"));
+        check_jacobian(solver, has_continuum);
+      }
 
-    void
-    run() override
-    {
+      std::string
+      loop_name() const override
+      {
+        return "load steps";
+      }
+
+      void
+      run() override
+      {
+        do_initial_step();
+        for (step = 1; step <= n_steps; ++step)
+          do_load_step();
+        finish();
+      }
+
+    protected:
+      bool
+      need_supports() const override
+      {
+        return true;
+      }
+
+    private:
+      void
       do_initial_step();
-      for (step = 1; step <= n_steps; ++step)
-        do_load_step();
+      void
+      do_load_step();
+      void
       finish();
-    }
 
-  protected:
-    bool
-    need_supports() const override
+      unsigned int n_steps = 0, step = 0;
+      double       t0 = 0, t1 = 0, dt_load = 0;
+    };
+
+    void
+    QuasiStatic::do_initial_step()
     {
-      return true;
+      const SolverParameters &solver = access->deck.solver;
+      n_steps                        = solver.requested_steps;
+      t0                             = solver.initial_time;
+      t1      = solver.final_time > solver.initial_time ? solver.final_time : solver.initial_time + 1;
+      dt_load = (t1 - t0) / n_steps;
+      access->record.dt = dt_load;
+      access->post.output.initialize(access->comm);
+      access->conditions.apply_initial_conditions(solver.initial_time);
+      access->model.breaking_allowed = false;
+      make_solver();
+      access->stop_if_interrupted_in_setup();
+      access->pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
+                    << implicit_solver->describe_tangent() << std::endl;
+
+      access->evaluate_initial_state();
+      access->record_initial_state(n_steps, t0);
+      start_loop();
     }
 
-  private:
     void
-    do_initial_step();
+    QuasiStatic::do_load_step()
+    {
+      ConditionSet    &conditions = access->conditions;
+      const double     time       = t0 + step * dt_load;
+      access->pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
+      const ImplicitSolver::LoadPathState step_start = implicit_solver->load_path_state();
+      conditions.apply_prescribed(time, dt_load);
+      access->model.set_time(time, dt_load);
+      // No motion between load steps (apply_prescribed sets the supports'
+      // rate), so no kinetic energy.
+      access->state.set_velocity_zero();
+      if (conditions.loads_depend_on_time)
+        conditions.evaluate_loads(time);
+      conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
+      implicit_solver->solve_step(step);
+      finish_step(step_start, step, time, n_steps);
+    }
+
     void
-    do_load_step();
-    void
-    finish();
-
-    unsigned int n_steps = 0, step = 0;
-    double       t0 = 0, t1 = 0, dt_load = 0;
-  };
-
-  void
-  QuasiStatic::do_initial_step()
-  {
-    const SolverParameters &solver = access->deck.solver;
-    n_steps                        = solver.requested_steps;
-    t0                             = solver.initial_time;
-    t1      = solver.final_time > solver.initial_time ? solver.final_time : solver.initial_time + 1;
-    dt_load = (t1 - t0) / n_steps;
-    access->record.dt = dt_load;
-    access->post.output.initialize(access->comm);
-    access->conditions.apply_initial_conditions(solver.initial_time);
-    access->model.breaking_allowed = false;
-    make_solver();
-    access->stop_if_interrupted_in_setup();
-    access->pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
-                  << implicit_solver->describe_tangent() << std::endl;
-
-    access->evaluate_initial_state();
-    access->record_initial_state(n_steps, t0);
-    start_loop();
-  }
-
-  void
-  QuasiStatic::do_load_step()
-  {
-    ConditionSet    &conditions = access->conditions;
-    const double     time       = t0 + step * dt_load;
-    access->pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
-    const ImplicitSolver::LoadPathState step_start = implicit_solver->load_path_state();
-    conditions.apply_prescribed(time, dt_load);
-    access->model.set_time(time, dt_load);
-    // No motion between load steps (apply_prescribed sets the supports'
-    // rate), so no kinetic energy.
-    access->state.set_velocity_zero();
-    if (conditions.loads_depend_on_time)
-      conditions.evaluate_loads(time);
-    conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
-    implicit_solver->solve_step(step);
-    finish_step(step_start, step, time, n_steps);
-  }
-
-  void
-  QuasiStatic::finish()
-  {
-    const double seconds = loop_seconds();
-    Postprocess &post    = access->post;
-    // The energy balance needs the final strain energy.
-    if (!post.output.is_output_step(n_steps, n_steps))
-      post.global_quantities(n_steps, t1);
-    access->pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
-                  << " Newton iterations, " << total_linear << " " << access->deck.solver.implicit.linear_solver
-                  << " iterations in " << sci(seconds, 4) << " s" << std::endl;
-    post.print_summary(seconds, n_steps);
-  }
+    QuasiStatic::finish()
+    {
+      const double seconds = loop_seconds();
+      Postprocess &post    = access->post;
+      // The energy balance needs the final strain energy.
+      if (!post.output.is_output_step(n_steps, n_steps))
+        post.global_quantities(n_steps, t1);
+      access->pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
+                    << " Newton iterations, " << total_linear << " " << access->deck.solver.implicit.linear_solver
+                    << " iterations in " << sci(seconds, 4) << " s" << std::endl;
+      post.print_summary(seconds, n_steps);
+    }
+  } // namespace
 
   PERIDEAL_REGISTER(TimeIntegrator, QuasiStatic, "QuasiStatic",
                     "Number of steps load steps from Initial time to Final time (a pseudo-time; 0 to 1 if Final "

@@ -43,133 +43,136 @@ namespace perideal
     }
   } // namespace
 
-  class HistoryProbe : public Material
+  namespace
   {
-  public:
-    static void
-    declare_parameters(ParameterHandler &prm)
+    class HistoryProbe : public Material
     {
-      Registry<Material>::instance().get("PMB", "History probe").declare(prm);
-    }
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        Registry<Material>::instance().get("PMB", "History probe").declare(prm);
+      }
 
-    HistoryProbe()
-      : pmb(Registry<Material>::instance().create("PMB", "History probe"))
-    {}
+      HistoryProbe()
+        : pmb(Registry<Material>::instance().create("PMB", "History probe"))
+      {}
 
-    void
-    parse_parameters(ParameterHandler &prm, const std::string &path) override
-    {
-      pmb->parse_parameters(prm, path);
-    }
-    double
-    density() const override
-    {
-      return pmb->density();
-    }
-    double
-    bulk_modulus() const override
-    {
-      return pmb->bulk_modulus();
-    }
-    double
-    shear_modulus() const override
-    {
-      return pmb->shear_modulus();
-    }
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        pmb->parse_parameters(prm, path);
+      }
+      double
+      density() const override
+      {
+        return pmb->density();
+      }
+      double
+      bulk_modulus() const override
+      {
+        return pmb->bulk_modulus();
+      }
+      double
+      shear_modulus() const override
+      {
+        return pmb->shear_modulus();
+      }
 
-    std::vector<PointField>
-    point_fields() const override
-    {
-      std::vector<PointField> fields = pmb->point_fields();
-      fields.push_back({"probe_steps", FieldUse::history});
-      fields.push_back({"probe_evaluations", FieldUse::local});
-      fields.push_back({"probe_tensor", FieldUse::stage, 9});
-      fields.push_back({"probe_symmetric", FieldUse::constant, 6});
-      return fields;
-    }
-    std::vector<BondField>
-    bond_fields() const override
-    {
-      return {{"probe_bond_steps"}};
-    }
+      std::vector<PointField>
+      point_fields() const override
+      {
+        std::vector<PointField> fields = pmb->point_fields();
+        fields.push_back({"probe_steps", FieldUse::history});
+        fields.push_back({"probe_evaluations", FieldUse::local});
+        fields.push_back({"probe_tensor", FieldUse::stage, 9});
+        fields.push_back({"probe_symmetric", FieldUse::constant, 6});
+        return fields;
+      }
+      std::vector<BondField>
+      bond_fields() const override
+      {
+        return {{"probe_bond_steps"}};
+      }
 
-    void
-    initialize(const ModelState &state, const std::vector<unsigned int> &points) override
-    {
-      pmb->set_block(block, horizon);
-      pmb->initialize(state, points);
-      VectorType &s = state.fields.get("probe_symmetric");
-      for (const unsigned int i : points)
-        for (unsigned int k = 0; k < 6; ++k)
-          s.local_element(6 * i + k) = tensor_value(&state.cloud.X[3 * i], k);
-    }
+      void
+      initialize(const ModelState &state, const std::vector<unsigned int> &points) override
+      {
+        pmb->set_block(block, horizon);
+        pmb->initialize(state, points);
+        VectorType &s = state.fields.get("probe_symmetric");
+        for (const unsigned int i : points)
+          for (unsigned int k = 0; k < 6; ++k)
+            s.local_element(6 * i + k) = tensor_value(&state.cloud.X[3 * i], k);
+      }
 
-    void
-    compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      pmb->compute_stage(state, points);
-      VectorType &t = state.fields.get("probe_tensor");
-      for (const unsigned int i : points)
-        for (unsigned int k = 0; k < 9; ++k)
-          t.local_element(9 * i + k) = tensor_value(&state.cloud.X[3 * i], k);
-    }
+      void
+      compute_stage(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        pmb->compute_stage(state, points);
+        VectorType &t = state.fields.get("probe_tensor");
+        for (const unsigned int i : points)
+          for (unsigned int k = 0; k < 9; ++k)
+            t.local_element(9 * i + k) = tensor_value(&state.cloud.X[3 * i], k);
+      }
 
-    void
-    compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      pmb->compute_force(state, points);
-      ++evaluations;
-      FieldStore       &fields = state.fields;
-      const VectorType &n      = fields.old("probe_steps");
-      VectorType       &np1    = fields.get("probe_steps");
-      VectorType       &count  = fields.get("probe_evaluations");
-      const VectorType &t = fields.get("probe_tensor"), &s = fields.get("probe_symmetric");
-      const double     *bond_n   = fields.bond_old("probe_bond_steps");
-      double           *bond_np1 = fields.bond("probe_bond_steps");
-      const unsigned int n_owned = state.cloud.n_owned();
-      for (const unsigned int i : points)
-        {
-          np1.local_element(i) = n.local_element(i) + 1;
-          count.local_element(i) += 1;
-          for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
-            {
-              bond_np1[b]          = bond_n[b] + 1;
-              const unsigned int j = state.bonds.neighbor[b];
-              if (j < n_owned)
-                continue;
-              ++ghost_checks;
-              for (unsigned int k = 0; k < 9; ++k)
-                ghost_mismatches += t.local_element(9 * j + k) != tensor_value(&state.cloud.X[3 * j], k);
-              for (unsigned int k = 0; k < 6; ++k)
-                ghost_mismatches += s.local_element(6 * j + k) != tensor_value(&state.cloud.X[3 * j], k);
-            }
-        }
-    }
+      void
+      compute_force(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        pmb->compute_force(state, points);
+        ++evaluations;
+        FieldStore       &fields = state.fields;
+        const VectorType &n      = fields.old("probe_steps");
+        VectorType       &np1    = fields.get("probe_steps");
+        VectorType       &count  = fields.get("probe_evaluations");
+        const VectorType &t = fields.get("probe_tensor"), &s = fields.get("probe_symmetric");
+        const double     *bond_n   = fields.bond_old("probe_bond_steps");
+        double           *bond_np1 = fields.bond("probe_bond_steps");
+        const unsigned int n_owned = state.cloud.n_owned();
+        for (const unsigned int i : points)
+          {
+            np1.local_element(i) = n.local_element(i) + 1;
+            count.local_element(i) += 1;
+            for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
+              {
+                bond_np1[b]          = bond_n[b] + 1;
+                const unsigned int j = state.bonds.neighbor[b];
+                if (j < n_owned)
+                  continue;
+                ++ghost_checks;
+                for (unsigned int k = 0; k < 9; ++k)
+                  ghost_mismatches += t.local_element(9 * j + k) != tensor_value(&state.cloud.X[3 * j], k);
+                for (unsigned int k = 0; k < 6; ++k)
+                  ghost_mismatches += s.local_element(6 * j + k) != tensor_value(&state.cloud.X[3 * j], k);
+              }
+          }
+      }
 
-    bool
-    fuses_stretch_criterion() const override
-    {
-      return false;
-    }
-    double
-    stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
-    {
-      return pmb->stable_time_step(state, points);
-    }
-    unsigned int
-    coupling_hops() const override
-    {
-      return pmb->coupling_hops();
-    }
-    bool
-    add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
-    {
-      return pmb->add_tangent(state, points, rows);
-    }
+      bool
+      fuses_stretch_criterion() const override
+      {
+        return false;
+      }
+      double
+      stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
+      {
+        return pmb->stable_time_step(state, points);
+      }
+      unsigned int
+      coupling_hops() const override
+      {
+        return pmb->coupling_hops();
+      }
+      bool
+      add_tangent(const ModelState &state, const std::vector<unsigned int> &points, TangentRows &rows) const override
+      {
+        return pmb->add_tangent(state, points, rows);
+      }
 
-  private:
-    std::unique_ptr<Material> pmb;
-  };
+    private:
+      std::unique_ptr<Material> pmb;
+    };
+  } // namespace
 
   PERIDEAL_REGISTER(Material, HistoryProbe, "History probe",
                     "test only: PMB plus history, evaluation and tensor fields (tests/models/history_probe.cc)")
