@@ -136,20 +136,7 @@ namespace perideal
         , d(state.damage)
       {}
 
-      /// w = beta (1 - d) of bond b.
-      template <BondDamage mode>
-      double
-      weight(const std::size_t b) const
-      {
-        double w = fraction ? double(fraction[b]) : 1.0;
-        if (mode == BondDamage::continuous)
-          w *= 1.0 - d[b];
-        else if (mode != BondDamage::none)
-          w *= 1.0 - broken[b]; // read, breaking (after the fused test)
-        return w;
-      }
-
-      /// 1 - d of bond b (the weight without the partial volume fraction).
+      /// 1 - d of bond b (read, breaking: after the fused test).
       template <BondDamage mode>
       double
       intact(const std::size_t b) const
@@ -159,6 +146,14 @@ namespace perideal
         if (mode != BondDamage::none)
           return 1.0 - broken[b];
         return 1.0;
+      }
+
+      /// w = beta (1 - d) of bond b.
+      template <BondDamage mode>
+      double
+      weight(const std::size_t b) const
+      {
+        return (fraction ? double(fraction[b]) : 1.0) * intact<mode>(b);
       }
 
       const Periodicity   box;
