@@ -305,6 +305,28 @@ namespace perideal
           force_variants<BondDamage::none>(state, points);
       }
 
+      /// One pass over the points' bonds, nothing written. With B = sum_j w
+      /// e^2 V_j, D = sum_j w |xi|^2 V_j and theta = 3 A / m, A = sum_j w |xi|
+      /// e V_j, over the weighted bonds (w = omega (1 - d), as the energy of
+      /// compute_force()), the deviatoric sum is sum_j w (e^d)^2 V_j = B +
+      /// theta^2 (D - 2 m) / 9, so W(before) - W(now) = K (theta_b^2 -
+      /// theta_n^2) / 2 + beta / 2 [dB + ((theta_b^2 - theta_n^2)(D_n - 2 m)
+      /// + theta_b^2 dD) / 9] with dA, dB, dD the changed bonds' share (their
+      /// weight before minus now): no difference of two large sums.
+      double
+      released_energy(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const override
+      {
+        double e = 0;
+        with_flag(now.cloud.periodicity.any(), [&](auto periodic) {
+          with_flag(thermal(now), [&](auto heated) {
+            constexpr bool P = decltype(periodic)::value, T = decltype(heated)::value;
+            e = now.damage ? released<P, T, BondDamage::continuous>(before, now, points) :
+                             released<P, T, BondDamage::read>(before, now, points);
+          });
+        });
+        return e;
+      }
+
       double
       stable_time_step(const ModelState &state, const std::vector<unsigned int> &points) const override
       {
@@ -569,6 +591,58 @@ namespace perideal
                                         wi * (r0 * (alpha[i] + alpha[j]) + (beta[i] + beta[j]) * e);
             w_out[b - first] = 0.5 * t * e / (fraction && fraction[b] > 0 ? double(fraction[b]) : 1.0);
           }
+      }
+
+      template <bool periodic, bool heated, BondDamage mode>
+      double
+      released(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const
+      {
+        const Periodicity   box      = now.cloud.periodicity;
+        const double       *X        = now.cloud.X.data();
+        const double       *V        = now.cloud.volume.data();
+        const double       *u        = now.u;
+        const std::size_t  *offsets  = now.bonds.offsets.data();
+        const unsigned int *neighbor = now.bonds.neighbor.data();
+        const double       *w_bond   = constant_influence ? nullptr : omega.data();
+        const double       *m        = now.fields.get("weighted_volume").begin();
+        const double       *beta     = now.fields.get("lps_beta").begin();
+        const double       *gamma    = now.fields.get("lps_gamma").begin();
+        const double       *eps_T    = now.thermal_strain; // heated only
+        double              released = 0;
+        for (const unsigned int i : points)
+          {
+            if (!(m[i] > 0))
+              continue; // a virtual point without bonds: no energy
+            const BondOrigin origin(X, u, i);
+            double           A = 0, D = 0, dA = 0, dB = 0, dD = 0;
+  #pragma omp simd reduction(+ : A, D, dA, dB, dD)
+            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+              {
+                const unsigned int j = neighbor[b];
+                double             ev[3], y[3];
+                bond_vectors<periodic>(X, u, j, origin, box, ev, y);
+                const double r0sq = ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2];
+                const double r0   = std::sqrt(r0sq);
+                const double r    = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+                const double e    = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
+                const double w0   = (w_bond ? w_bond[b] : omega0) * V[j];
+                const double wn   = w0 * (mode == BondDamage::continuous ? 1.0 - now.damage[b] : 1.0 - now.broken[b]);
+                const double dw   = w0 * (mode == BondDamage::continuous ? now.damage[b] - before.damage[b] :
+                                                                           double(now.broken[b]) - before.broken[b]);
+                A += wn * r0 * e;
+                D += wn * r0sq;
+                dA += dw * r0 * e;
+                dB += dw * e * e;
+                dD += dw * r0sq;
+              }
+            const double theta_n = 3 * A / m[i], theta_b = theta_n + 3 * dA / m[i];
+            const double squares = (theta_b - theta_n) * (theta_b + theta_n);
+            // Weighted: w_i K = m_i (gamma_i + beta_i / 3) / 3 of the scaled fields (as compute_force()).
+            const double Ki = energy_weighted ? m[i] * (gamma[i] + beta[i] / 3) / 3 : K;
+            released += V[i] * (0.5 * Ki * squares +
+                                0.5 * beta[i] * (dB + (squares * (D - 2 * m[i]) + theta_b * theta_b * dD) / 9));
+          }
+        return released;
       }
 
       template <BondDamage mode>

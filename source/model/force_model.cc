@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <typeinfo>
 
@@ -488,49 +489,49 @@ namespace perideal
   ForceModel::released_energy(DamageSnapshot &before)
   {
     // A point's energy density depends on its own family alone (Material),
-    // so only the points with a bond whose damage changed are evaluated
-    // again, with the damage before and after, into scratch arrays: the
-    // forces and energy densities of now stay as they are, and a point's
-    // stage fields end as the evaluation of now left them.
-    const unsigned int                     n = cloud.n_owned();
-    std::vector<std::vector<unsigned int>> changed(blocks.size());
-    for (unsigned int i = 0; i < n; ++i)
-      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-        if (broken[b] != before.broken[b] || (!damage.empty() && damage[b] != before.damage[b]))
-          {
-            changed[cloud.block[i]].push_back(i);
-            break;
-          }
-    std::vector<double> force(dim * n), energy(n);
-    const auto          strain_energy = [&]() {
-      ModelState state{cloud, bonds, broken.empty() ? nullptr : broken.data(), mechanical.displacement.begin(),
-                       force.data(), energy.data(), *fields};
-      state.time = time;
-      state.dt   = dt;
-      double e   = 0;
-      for (unsigned int k = 0; k < blocks.size(); ++k)
-        if (!changed[k].empty() && !blocks[k].rigid)
-          {
-            for (const unsigned int i : changed[k])
-              energy[i] = 0;
-            const ModelState s = block_state(state, k);
-            blocks[k].material->compute_stage(s, changed[k]);
-            blocks[k].material->compute_force(s, changed[k]);
-            for (const unsigned int i : changed[k])
-              e += energy[i] * cloud.volume[i];
-          }
-      return e;
-    };
-    // (No bond breaks in these evaluations: their states carry no breaking.)
-    const auto swap = [&]() {
-      broken.swap(before.broken);
-      damage.swap(before.damage);
-    };
-    swap();
-    const double energy_before = strain_energy();
-    swap();
-    const double energy_now = strain_energy();
-    return Utilities::MPI::sum(energy_before - energy_now, comm);
+    // so only the points with a bond whose damage changed are evaluated, by
+    // their material with the damage before and now (the forces and energy
+    // densities of now stay as they are).
+    const unsigned int n = cloud.n_owned();
+    for (auto &c : released_points)
+      c.clear();
+    released_points.resize(blocks.size());
+    // A rank whose bonds did not change has nothing to scan.
+    for (unsigned int i = 0; i < n && before.updates != damage_updates; ++i)
+      {
+        const std::size_t first = bonds.offsets[i], count = bonds.offsets[i + 1] - first;
+        if (std::memcmp(broken.data() + first, before.broken.data() + first, count) != 0 ||
+            (!damage.empty() && std::memcmp(damage.data() + first, before.damage.data() + first, count * sizeof(double)) != 0))
+          released_points[cloud.block[i]].push_back(i);
+      }
+    released_force.resize(dim * n);
+    released_density.resize(n);
+    ModelState now{cloud, bonds, broken.data(), mechanical.displacement.begin(), released_force.data(),
+                   released_density.data(), *fields};
+    now.time = time;
+    now.dt   = dt;
+    double e = 0;
+    for (unsigned int k = 0; k < blocks.size(); ++k)
+      if (!released_points[k].empty() && !blocks[k].rigid)
+        {
+          // (No bond breaks in these evaluations: their states carry no breaking.)
+          ModelState at_now = block_state(now, k), at_before = at_now;
+          at_before.broken  = before.broken.data();
+          at_before.damage  = continuous[k] ? before.damage.data() : nullptr;
+          e += blocks[k].material->released_energy(at_before, at_now, released_points[k]);
+        }
+    // The snapshot becomes now's where it differed, so that a solver that
+    // keeps it (Verlet) copies nothing whole before the next step.
+    for (const auto &points : released_points)
+      for (const unsigned int i : points)
+        {
+          const std::size_t first = bonds.offsets[i], count = bonds.offsets[i + 1] - first;
+          std::memcpy(before.broken.data() + first, broken.data() + first, count);
+          if (!damage.empty())
+            std::memcpy(before.damage.data() + first, damage.data() + first, count * sizeof(double));
+        }
+    before.updates = damage_updates;
+    return Utilities::MPI::sum(e, comm);
   }
 
   ModelState

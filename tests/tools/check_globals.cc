@@ -5,6 +5,8 @@
 //   perideal_check globals blowup  CSV pd_app-stderr steps-asked
 //   perideal_check globals pair    CSV A T s_c K horizon [rate]
 //   perideal_check globals split   CSV nx ny nz Lx Ly Lz horizon x_split D T s_c K (0: no energy check) [rate]
+// (split, PMB: the strain energy and, if the CSV has released_energy, the
+// energy released so far, each bond's c s^2 |xi| V^2 / 2 at the row it broke)
 //   perideal_check globals split_energy CSV nx ny nz Lx Ly Lz horizon x_split D T G_c K
 //   perideal_check globals crack_tip CSV nx ny nz Lx Ly Lz horizon v eps s_c threshold window
 // (rate: the critical stretch is s_c + rate t, Time dependent critical stretch.
@@ -33,6 +35,7 @@ namespace
   struct Row
   {
     double step, time, kinetic, strain, work, broken, damage;
+    double released = std::nan(""); // the column released_energy, if there
   };
 
   std::vector<Row>
@@ -47,6 +50,15 @@ namespace
     const std::string columns = "step,time,kinetic_energy,strain_energy,external_work,broken_bonds,max_damage";
     if (header != columns && header.rfind(columns + ",", 0) != 0)
       throw std::runtime_error("unexpected header in " + file + ": " + header);
+    // Solver/Track dissipated energy adds released_energy after them.
+    int released_column = -1;
+    {
+      std::istringstream names(header);
+      std::string        name;
+      for (int k = 0; std::getline(names, name, ','); ++k)
+        if (name == "released_energy")
+          released_column = k;
+    }
     std::vector<Row> rows;
     std::string      line;
     while (std::getline(in, line))
@@ -55,6 +67,8 @@ namespace
         std::istringstream s(line);
         Row                r;
         s >> r.step >> r.time >> r.kinetic >> r.strain >> r.work >> r.broken >> r.damage;
+        for (int k = 7; k <= released_column && s; ++k)
+          s >> r.released;
         if (!s)
           throw std::runtime_error("bad line in " + file + ": " + line);
         rows.push_back(r);
@@ -283,6 +297,8 @@ check_globals(int argc, char *argv[])
           std::vector<char> broken(crossing.size(), 0);
           unsigned int      bad_broken = 0, bad_damage = 0, max_count = 0;
           double            bad_energy = 0, d_max = 0, closest = 1e300;
+          // Released: each bond's energy c s^2 |xi| V^2 / 2 at the row where it broke.
+          double released = 0, bad_released = 0;
           for (const auto &r : rows)
             {
               const double d = D * std::sin(M_PI * r.time / T), sc_t = sc + rate * r.time;
@@ -298,7 +314,11 @@ check_globals(int argc, char *argv[])
                   const double sc_b = by_energy ? std::sqrt(4 * a[10] / (9 * K * e.r0)) : sc_t;
                   // Relative to each bond's own limit, scaled as the printed line divides by sc.
                   closest = std::min(closest, by_energy ? std::abs(s - sc_b) / sc_b * sc : std::abs(s - sc_t));
-                  broken[b] |= s > sc_b;
+                  if (!broken[b] && s > sc_b)
+                    {
+                      broken[b] = 1;
+                      released += 0.5 * c * s * s * e.r0 * V * V;
+                    }
                   if (broken[b])
                     ++count, ++broken_of[e.i], ++broken_of[e.j];
                   else
@@ -313,6 +333,8 @@ check_globals(int argc, char *argv[])
               bad_damage += std::abs(r.damage - damage) > 1e-9;
               const double scale = 0.5 * c * sc * sc * V * V * crossing.size() * delta;
               bad_energy         = std::max(bad_energy, std::abs(r.strain - energy) / scale);
+              if (!std::isnan(r.released))
+                bad_released = std::max(bad_released, std::abs(r.released - released) / scale);
             }
           std::cout << "broken bonds predicted at the end: " << max_count << " of " << crossing.size()
                     << " crossing; max opening " << d_max << "\n";
@@ -326,6 +348,9 @@ check_globals(int argc, char *argv[])
                   bad_energy < 1e-9, "< 1e-9");
           else
             std::cout << "strain energy not predicted (K = 0: a model other than PMB)\n";
+          if (K > 0 && !std::isnan(rows.back().released))
+            check("max |released_energy - prediction| / (c s_c^2 V^2 delta n_crossing / 2)", bad_released,
+                  bad_released < 1e-9 && released > 0, "< 1e-9");
           check("broken bonds at the end", rows.back().broken,
                 rows.back().broken == max_count && max_count > 0 && max_count < crossing.size(),
                 "== predicted, some but not all crossing bonds");

@@ -256,10 +256,24 @@ namespace perideal
     /// Adds the force density of every point in @p points to state.force
     /// and, if state.energy is set, writes its strain energy density. A
     /// point's energy density depends on its own family's bonds and stage
-    /// fields alone (ForceModel::released_energy() evaluates only the points
-    /// whose bonds broke, compute_stage() then compute_force() on them).
+    /// fields alone (released_energy() evaluates only the points whose bonds
+    /// broke).
     virtual void
     compute_force(const ModelState &state, const std::vector<unsigned int> &points) const = 0;
+
+    /// The strain energy a change of bond damage released at @p points:
+    /// sum_i V_i (W_i(before) - W_i(now)), the two states at the same
+    /// displacement and differing only in their damage (ModelState::broken
+    /// and ::damage). The default evaluates compute_stage() and
+    /// compute_force() with the energy at @p before, then at @p now, into
+    /// the states' force and energy arrays (scratch, written at @p points
+    /// only), so that the stage fields of @p points end as now's. A material
+    /// whose W_i is a closed function of sums over the bonds (PMB, LPS,
+    /// Elastic plastic, Viscoelastic) overrides it with one pass over the
+    /// points' bonds that writes nothing (Solver/Track dissipated energy then
+    /// costs a few percent instead of two more evaluations of those points).
+    virtual double
+    released_energy(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const;
 
     /// True if bond_energies() gives the energy of each bond (a damage
     /// model by bond energy, Critical energy, needs it).

@@ -16,6 +16,7 @@
 #include <deal.II/base/timer.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -101,18 +102,27 @@ namespace perideal
     {
       std::vector<std::uint8_t> broken;
       std::vector<double>       damage; // empty without a continuous damage model
+      // damage_updates when copied: the copy is current while it is unchanged.
+      std::size_t updates = std::numeric_limits<std::size_t>::max();
     };
-    /// Copies the bond damage of now into @p into (reusing its memory).
+    /// Copies the bond damage of now into @p into (reusing its memory),
+    /// unless this rank's damage is unchanged since @p into was taken: a
+    /// solver that keeps one snapshot copies only after steps that broke
+    /// bonds here.
     void
     save_damage(DamageSnapshot &into) const
     {
-      into.broken = broken;
-      into.damage = damage;
+      if (into.updates == damage_updates)
+        return;
+      into.broken  = broken;
+      into.damage  = damage;
+      into.updates = damage_updates;
     }
     /// The strain energy that bond damage released at the current state:
     /// with the damage of @p before minus with that of now, summed over
     /// ranks (for continuous damage the energy released as d rose, to first
-    /// order in its rise). Leaves the forces and energy densities of now.
+    /// order in its rise). Leaves the forces and energy densities of now
+    /// (Material::released_energy()); @p before then holds now's damage.
     /// Collective.
     double
     released_energy(DamageSnapshot &before);
@@ -222,6 +232,10 @@ namespace perideal
       return {broken.data(), damage.data()};
     }
     bool                        has_stage_fields = false;
+    // released_energy()'s points per block and the default evaluation's
+    // scratch force and energy density (kept: no allocation per step).
+    std::vector<std::vector<unsigned int>> released_points;
+    std::vector<double>                    released_force, released_density;
     // Per block: the critical stretch its material applies in its force loop
     // (squared_limit 0: not fused, damage_pass() runs its own pass).
     std::vector<StretchBreaking> fused_breaking;

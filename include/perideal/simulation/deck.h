@@ -50,7 +50,7 @@ namespace perideal
     double             initial_time = 0, final_time = 0;
     unsigned int       requested_steps     = 0;
     double             energy_growth_limit = 0;
-    bool               track_dissipation   = false; // Solver/Track dissipated energy
+    bool               track_dissipation   = true; // Solver/Track dissipated energy
     ImplicitParameters implicit;                     // Solver/Implicit: Newton and the linear solvers
   };
 
