@@ -163,12 +163,30 @@ namespace perideal
       double
       released_energy(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const override
       {
-        double e = 0;
-        OrdinaryState::variants(now, [&](auto W, auto P, auto D, auto T) {
-          e = released<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value>(before, now,
-                                                                                                         points);
-        });
-        return e;
+        const double *m     = now.fields.get(family.weighted_volume).begin();
+        const double *alpha = now.fields.get(family.alpha).begin();
+        const double *edp_N = now.fields.bond_old("eps_edp");
+        const double *ep_N  = now.fields.old("eps_plastic_strain").begin();
+        // sums: A = sum w |xi| e, D = sum w |xi|^2, P = sum w |xi| x, Q = sum w x^2.
+        return family.released_energy<4>(
+          before, now, points,
+          [&](const std::size_t b, const double r0, const double e, const double w, double *s) {
+            const double x = e - edp_N[b];
+            s[0] += w * r0 * e;
+            s[1] += w * r0 * r0;
+            s[2] += w * r0 * x;
+            s[3] += w * x * x;
+          },
+          [&](const unsigned int i, const double *s) {
+            const double th   = 3 * s[0] / m[i];
+            const double n    = std::max(s[3] - 2 * th * s[2] / 3 + th * th * s[1] / 9, 0.0);
+            const double q_tr = std::sqrt(m[i] / 5 * n) * alpha[i];
+            const double Y_N  = Y0 + H * ep_N[i];
+            double       r    = 1; // the return factor
+            if (q_tr > Y_N)
+              r = (Y_N + H * (q_tr - Y_N) / (3 * G + H)) / q_tr;
+            return 0.5 * K * th * th + 0.5 * alpha[i] * r * r * n;
+          });
       }
 
       bool
@@ -299,57 +317,6 @@ namespace perideal
           }
         if constexpr (breaking)
           state.breaking->newly_broken += newly_broken;
-      }
-
-      template <bool weighted, bool periodic, bool damaged, bool thermal>
-      double
-      released(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const
-      {
-        const double       *V        = now.cloud.volume.data();
-        const std::size_t  *offsets  = now.bonds.offsets.data();
-        const unsigned int *neighbor = now.bonds.neighbor.data();
-        const double       *m        = now.fields.get(family.weighted_volume).begin();
-        const double       *alpha    = now.fields.get(family.alpha).begin();
-        const double       *edp_N    = now.fields.bond_old("eps_edp");
-        const double       *ep_N     = now.fields.old("eps_plastic_strain").begin();
-        double              released = 0;
-        for (const unsigned int i : points)
-          {
-            if (m[i] == 0)
-              continue;
-            const BondOrigin origin(now.cloud.X.data(), now.u, i);
-            // [0]: before, [1]: now.
-            double A[2] = {0, 0}, D[2] = {0, 0}, P[2] = {0, 0}, Q[2] = {0, 0};
-            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-              {
-                const unsigned int j = neighbor[b];
-                double             y[3], r0, r, e;
-                OrdinaryState::bond<periodic, thermal>(now, origin, i, j, y, r0, r, e);
-                const double x = e - edp_N[b];
-                for (unsigned int k = 0; k < 2; ++k)
-                  {
-                    const double w = OrdinaryState::weight<weighted, damaged>(k == 0 ? before : now, b) * V[j];
-                    A[k] += w * r0 * e;
-                    D[k] += w * r0 * r0;
-                    P[k] += w * r0 * x;
-                    Q[k] += w * x * x;
-                  }
-              }
-            double W[2];
-            for (unsigned int k = 0; k < 2; ++k)
-              {
-                const double th   = 3 * A[k] / m[i];
-                const double n    = std::max(Q[k] - 2 * th * P[k] / 3 + th * th * D[k] / 9, 0.0);
-                const double q_tr = std::sqrt(m[i] / 5 * n) * alpha[i];
-                const double Y_N  = Y0 + H * ep_N[i];
-                double       s    = 1;
-                if (q_tr > Y_N)
-                  s = (Y_N + H * (q_tr - Y_N) / (3 * G + H)) / q_tr;
-                W[k] = 0.5 * K * th * th + 0.5 * alpha[i] * s * s * n;
-              }
-            released += V[i] * (W[0] - W[1]);
-          }
-        return released;
       }
 
       template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy, bool bond_work>

@@ -182,58 +182,11 @@ namespace perideal
       double
       released_energy(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const override
       {
-        const Periodicity   box      = now.cloud.periodicity;
-        const double       *X        = now.cloud.X.data();
-        const double       *V        = now.cloud.volume.data();
-        const double       *u        = now.u;
-        const unsigned int *neighbor = now.bonds.neighbor.data();
-        const double       *c        = now.fields.get("pmb_micromodulus").begin();
-        const float        *fraction = now.bonds.volume_fraction.empty() ? nullptr : now.bonds.volume_fraction.data();
-        const std::uint8_t *family   = now.bonds.family.empty() ? nullptr : now.bonds.family.data();
-        const double       *eps_T    = now.thermal_strain;
-        double              released = 0;
-        for (const unsigned int i : points)
-          {
-            const BondOrigin origin(X, u, i);
-            double           sum = 0;
-            const std::size_t last = now.bonds.offsets[i + 1];
-            for (std::size_t b = now.bonds.offsets[i]; b < last; ++b)
-              {
-                // Binary damage: most bonds are unchanged; skip them eight at a time.
-                if (!now.damage && b + 8 <= last)
-                  {
-                    std::uint64_t eight_now, eight_before;
-                    std::memcpy(&eight_now, now.broken + b, 8);
-                    std::memcpy(&eight_before, before.broken + b, 8);
-                    if (eight_now == eight_before)
-                      {
-                        b += 7;
-                        continue;
-                      }
-                  }
-                const double lost = now.damage ? now.damage[b] - before.damage[b] : double(now.broken[b]) - before.broken[b];
-                if (lost == 0)
-                  continue;
-                const unsigned int j = neighbor[b];
-                double             e[3], y[3];
-                if (box.any())
-                  bond_vectors<true>(X, u, j, origin, box, e, y);
-                else
-                  bond_vectors<false>(X, u, j, origin, box, e, y);
-                const double r0  = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-                const double r   = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-                const double s   = eps_T ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
-                const double cij = family ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
-                                                   (family[b] & Bonds::other_half ? c[j] : 0.0)) :
-                                            0.5 * (c[i] + c[j]);
-                const double Vj  = fraction ? fraction[b] * V[j] : V[j];
-                sum += lost * 0.25 * cij * s * s * r0 * Vj;
-              }
-            released += V[i] * sum;
-          }
-        return released;
+        double e = 0;
+        with_flag(now.cloud.periodicity.any(),
+                  [&](auto P) { e = released<decltype(P)::value>(before, now, points); });
+        return e;
       }
-
 
       bool
       weight_energy(const ModelState &state, const std::vector<unsigned int> &points, const double *weight) override
@@ -309,6 +262,59 @@ namespace perideal
       }
 
     private:
+      template <bool periodic>
+      double
+      released(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const
+      {
+        const Periodicity   box      = now.cloud.periodicity;
+        const double       *X        = now.cloud.X.data();
+        const double       *V        = now.cloud.volume.data();
+        const double       *u        = now.u;
+        const unsigned int *neighbor = now.bonds.neighbor.data();
+        const double       *c        = now.fields.get("pmb_micromodulus").begin();
+        const float        *fraction = now.bonds.volume_fraction.empty() ? nullptr : now.bonds.volume_fraction.data();
+        const std::uint8_t *family   = now.bonds.family.empty() ? nullptr : now.bonds.family.data();
+        const double       *eps_T    = now.thermal_strain;
+        double              released = 0;
+        for (const unsigned int i : points)
+          {
+            const BondOrigin origin(X, u, i);
+            double           sum = 0;
+            const std::size_t last = now.bonds.offsets[i + 1];
+            for (std::size_t b = now.bonds.offsets[i]; b < last; ++b)
+              {
+                // Binary damage: most bonds are unchanged; skip them eight at a time.
+                if (!now.damage && b + 8 <= last)
+                  {
+                    std::uint64_t eight_now, eight_before;
+                    std::memcpy(&eight_now, now.broken + b, 8);
+                    std::memcpy(&eight_before, before.broken + b, 8);
+                    if (eight_now == eight_before)
+                      {
+                        b += 7;
+                        continue;
+                      }
+                  }
+                const double lost = now.damage ? now.damage[b] - before.damage[b] : double(now.broken[b]) - before.broken[b];
+                if (lost == 0)
+                  continue;
+                const unsigned int j = neighbor[b];
+                double             e[3], y[3];
+                bond_vectors<periodic>(X, u, j, origin, box, e, y);
+                const double r0  = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+                const double r   = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+                const double s   = eps_T ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
+                const double cij = family ? 0.5 * ((family[b] & Bonds::own_half ? c[i] : 0.0) +
+                                                   (family[b] & Bonds::other_half ? c[j] : 0.0)) :
+                                            0.5 * (c[i] + c[j]);
+                const double Vj  = fraction ? fraction[b] * V[j] : V[j];
+                sum += lost * 0.25 * cij * s * s * r0 * Vj;
+              }
+            released += V[i] * sum;
+          }
+        return released;
+      }
+
       double rho = 0, K = 0, thermal_expansion = 0;
       bool   surface_correction = false;
 

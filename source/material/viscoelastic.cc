@@ -155,12 +155,34 @@ namespace perideal
       double
       released_energy(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const override
       {
-        double e = 0;
-        OrdinaryState::variants(now, [&](auto W, auto P, auto D, auto T) {
-          e = released<decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value>(before, now,
-                                                                                                         points);
-        });
-        return e;
+        const double *m     = now.fields.get(family.weighted_volume).begin();
+        const double *alpha = now.fields.get(family.alpha).begin();
+        const double *ed_N  = now.fields.bond_old("ves_ed");
+        const double *eb_N  = now.fields.bond_old("ves_eb");
+        // force()'s integration weights of the step.
+        const double dt    = now.dt;
+        const double decay = dt > 0 ? std::exp(-dt / tau) : 1.0;
+        const double beta  = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
+        const double l_inf = 1 - lambda_i;
+        // sums: A, B, D as LPS's, C1 = sum w c e, C2 = sum w c |xi|, C3 = sum w c^2.
+        return family.released_energy<6>(
+          before, now, points,
+          [&](const std::size_t b, const double r0, const double e, const double w, double *s) {
+            const double c = eb_N[b] * decay + ed_N[b] * (1 - decay) - beta * ed_N[b];
+            s[0] += w * r0 * e;
+            s[1] += w * e * e;
+            s[2] += w * r0 * r0;
+            s[3] += w * c * e;
+            s[4] += w * c * r0;
+            s[5] += w * c * c;
+          },
+          [&](const unsigned int i, const double *s) {
+            const double th = 3 * s[0] / m[i];
+            const double S  = s[1] - 2 * th * s[0] / 3 + th * th * s[2] / 9;
+            const double Sc = s[3] - th * s[4] / 3; // sum w c e^d V_j
+            return 0.5 * K * th * th +
+                   0.5 * alpha[i] * (l_inf * S + lambda_i * ((1 - beta) * (1 - beta) * S - 2 * (1 - beta) * Sc + s[5]));
+          });
       }
 
       bool
@@ -240,61 +262,6 @@ namespace perideal
           }
         if constexpr (breaking)
           state.breaking->newly_broken += newly_broken;
-      }
-
-      template <bool weighted, bool periodic, bool damaged, bool thermal>
-      double
-      released(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points) const
-      {
-        const double       *V        = now.cloud.volume.data();
-        const std::size_t  *offsets  = now.bonds.offsets.data();
-        const unsigned int *neighbor = now.bonds.neighbor.data();
-        const double       *m        = now.fields.get(family.weighted_volume).begin();
-        const double       *alpha    = now.fields.get(family.alpha).begin();
-        const double       *ed_N     = now.fields.bond_old("ves_ed");
-        const double       *eb_N     = now.fields.bond_old("ves_eb");
-        // force()'s integration weights of the step.
-        const double dt       = now.dt;
-        const double decay    = dt > 0 ? std::exp(-dt / tau) : 1.0;
-        const double beta     = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
-        const double l_inf    = 1 - lambda_i;
-        double       released = 0;
-        for (const unsigned int i : points)
-          {
-            if (m[i] == 0)
-              continue;
-            const BondOrigin origin(now.cloud.X.data(), now.u, i);
-            // [0]: before, [1]: now; A, B, D as LPS's, C1 = sum w c e, C2 = sum w c |xi|, C3 = sum w c^2.
-            double A[2] = {0, 0}, B[2] = {0, 0}, D[2] = {0, 0}, C1[2] = {0, 0}, C2[2] = {0, 0}, C3[2] = {0, 0};
-            for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
-              {
-                const unsigned int j = neighbor[b];
-                double             y[3], r0, r, e;
-                OrdinaryState::bond<periodic, thermal>(now, origin, i, j, y, r0, r, e);
-                const double c = eb_N[b] * decay + ed_N[b] * (1 - decay) - beta * ed_N[b];
-                for (unsigned int k = 0; k < 2; ++k)
-                  {
-                    const double w = OrdinaryState::weight<weighted, damaged>(k == 0 ? before : now, b) * V[j];
-                    A[k] += w * r0 * e;
-                    B[k] += w * e * e;
-                    D[k] += w * r0 * r0;
-                    C1[k] += w * c * e;
-                    C2[k] += w * c * r0;
-                    C3[k] += w * c * c;
-                  }
-              }
-            double W[2];
-            for (unsigned int k = 0; k < 2; ++k)
-              {
-                const double th = 3 * A[k] / m[i];
-                const double S  = B[k] - 2 * th * A[k] / 3 + th * th * D[k] / 9;
-                const double Sc = C1[k] - th * C2[k] / 3; // sum w c e^d V_j
-                W[k] = 0.5 * K * th * th +
-                       0.5 * alpha[i] * (l_inf * S + lambda_i * ((1 - beta) * (1 - beta) * S - 2 * (1 - beta) * Sc + C3[k]));
-              }
-            released += V[i] * (W[0] - W[1]);
-          }
-        return released;
       }
 
       template <bool weighted, bool periodic, bool damaged, bool thermal, bool energy, bool bond_work>

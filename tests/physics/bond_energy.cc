@@ -54,45 +54,13 @@ namespace
   const Point<3>     lower(0, 0, 0), upper(1, 1, 1);
   const unsigned int n       = 8;
   const double       horizon = 3.015 / n;
-
-  struct Variant
-  {
-    std::string  name;
-    MaterialSpec spec;
-    bool         partial  = false;
-    bool         periodic = false;
-    bool         heated   = false;
-    SecondBlock  second   = {};
-  };
 } // namespace
 
 int
 main(int argc, char *argv[])
 {
   return run_checks(argc, argv, [](const MPI_Comm comm, Report &report) {
-    const MaterialSpec pmb{"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Thermal expansion coefficient", "0.01"}}};
-    const MaterialSpec lps{"LPS",
-                           {{"Density", "1"},
-                            {"Bulk modulus", "1"},
-                            {"Shear modulus", "0.35"},
-                            {"Thermal expansion coefficient", "0.01"}}};
-    std::vector<Variant> variants = {{"PMB", pmb}, {"LPS, omega = 1", lps}};
-    variants.push_back({"LPS, omega = 1 - r", lps});
-    variants.back().spec.keys["Influence function"] = "1 - r";
-    variants.push_back({"PMB, surface correction", pmb});
-    variants.back().spec.keys["Surface correction"] = "Energy";
-    variants.push_back({"LPS, surface correction", lps});
-    variants.back().spec.keys["Surface correction"] = "Energy";
-    variants.push_back({"PMB, partial volumes", pmb, true});
-    variants.push_back({"LPS, partial volumes", lps, true});
-    variants.push_back({"PMB, periodic", pmb, false, true});
-    variants.push_back({"LPS, periodic", lps, false, true});
-    variants.push_back({"PMB, temperature", pmb, false, false, true});
-    variants.push_back({"LPS, temperature", lps, false, false, true});
-    variants.push_back({"PMB, two horizons", pmb, false, false, false, {0.5, 2.015 / n}});
-    variants.push_back({"LPS, two horizons", lps, false, false, false, {0.5, 2.015 / n}});
-
-    for (const Variant &v : variants)
+    for (const EnergyVariant &v : energy_variants(n))
       {
         report.line(v.name + ":");
         Harness h(comm, lower, upper, {{n, n, n}}, horizon, v.spec, {}, v.partial,

@@ -76,6 +76,48 @@ namespace pdtest
     double horizon = 0;
   };
 
+  /// A variant of a bond-energy test: a material and the scene's switches.
+  struct EnergyVariant
+  {
+    std::string  name;
+    MaterialSpec spec;
+    bool         partial  = false;
+    bool         periodic = false;
+    bool         heated   = false;
+    SecondBlock  second   = {};
+  };
+
+  /// Every variant of PMB and LPS that enters a bond's energy (influence
+  /// function, surface correction, partial volumes, periodic, temperature,
+  /// two horizons) on a lattice of @p n cells per unit length, for the tests
+  /// of the energies (bond_energy.cc, released_energy.cc).
+  inline std::vector<EnergyVariant>
+  energy_variants(const unsigned int n)
+  {
+    const MaterialSpec pmb{"PMB", {{"Density", "1"}, {"Bulk modulus", "1"}, {"Thermal expansion coefficient", "0.01"}}};
+    const MaterialSpec lps{"LPS",
+                           {{"Density", "1"},
+                            {"Bulk modulus", "1"},
+                            {"Shear modulus", "0.35"},
+                            {"Thermal expansion coefficient", "0.01"}}};
+    std::vector<EnergyVariant> variants = {{"PMB", pmb}, {"LPS, omega = 1", lps}};
+    variants.push_back({"LPS, omega = 1 - r", lps});
+    variants.back().spec.keys["Influence function"] = "1 - r";
+    variants.push_back({"PMB, surface correction", pmb});
+    variants.back().spec.keys["Surface correction"] = "Energy";
+    variants.push_back({"LPS, surface correction", lps});
+    variants.back().spec.keys["Surface correction"] = "Energy";
+    variants.push_back({"PMB, partial volumes", pmb, true});
+    variants.push_back({"LPS, partial volumes", lps, true});
+    variants.push_back({"PMB, periodic", pmb, false, true});
+    variants.push_back({"LPS, periodic", lps, false, true});
+    variants.push_back({"PMB, temperature", pmb, false, false, true});
+    variants.push_back({"LPS, temperature", lps, false, false, true});
+    variants.push_back({"PMB, two horizons", pmb, false, false, false, {0.5, 2.015 / n}});
+    variants.push_back({"LPS, two horizons", lps, false, false, false, {0.5, 2.015 / n}});
+    return variants;
+  }
+
   class Harness
   {
   public:

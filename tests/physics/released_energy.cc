@@ -62,21 +62,9 @@ main(int argc, char *argv[])
                             {"Bulk modulus", "1"},
                             {"Shear modulus", "0.35"},
                             {"Thermal expansion coefficient", "0.01"}}};
-    std::vector<Variant> variants = {{"PMB", pmb}, {"LPS, omega = 1", lps}};
-    variants.push_back({"LPS, omega = 1 - r", lps});
-    variants.back().spec.keys["Influence function"] = "1 - r";
-    variants.push_back({"PMB, surface correction", pmb});
-    variants.back().spec.keys["Surface correction"] = "Energy";
-    variants.push_back({"LPS, surface correction", lps});
-    variants.back().spec.keys["Surface correction"] = "Energy";
-    variants.push_back({"PMB, partial volumes", pmb, true});
-    variants.push_back({"LPS, partial volumes", lps, true});
-    variants.push_back({"PMB, periodic", pmb, false, true});
-    variants.push_back({"LPS, periodic", lps, false, true});
-    variants.push_back({"PMB, temperature", pmb, false, false, true});
-    variants.push_back({"LPS, temperature", lps, false, false, true});
-    variants.push_back({"PMB, two horizons", pmb, false, false, false, {0.5, 2.015 / n}});
-    variants.push_back({"LPS, two horizons", lps, false, false, false, {0.5, 2.015 / n}});
+    std::vector<Variant> variants;
+    for (const EnergyVariant &v : energy_variants(n))
+      variants.push_back({v.name, v.spec, v.partial, v.periodic, v.heated, v.second});
     variants.push_back({"PMB, continuous damage", pmb, false, false, false, {}, true});
     variants.push_back({"LPS, continuous damage, temperature", lps, false, false, true, {}, true});
     const auto weight = [](const Point<3> &x) { return 0.25 + 0.75 * x[0]; };

@@ -302,6 +302,25 @@ namespace perideal
         }
     }
 
+    /// Material::released_energy() of a model whose W_i is a closed function
+    /// of N per-point sums over the bonds: one pass over @p points' bonds
+    /// adds both damage states' sums, nothing is written.
+    /// @p add(b, r0, e, w, sums) adds bond b's terms with the weight w =
+    /// weight() V_j to sums[0..N) (e: the mechanical extension);
+    /// @p energy(i, sums) returns W_i from them.
+    template <std::size_t N, typename Add, typename Energy>
+    double
+    released_energy(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points,
+                    const Add &add, const Energy &energy) const
+    {
+      double released = 0;
+      variants(now, [&](auto W, auto P, auto D, auto T) {
+        released = released_sums<N, decltype(W)::value, decltype(P)::value, decltype(D)::value, decltype(T)::value>(
+          before, now, points, add, energy);
+      });
+      return released;
+    }
+
     /// The free thermal extension of bond i-j, 0 without thermal strain (set-up, tangent).
     static double
     thermal_extension(const ModelState &state, const unsigned int i, const unsigned int j, const double r0)
@@ -325,6 +344,36 @@ namespace perideal
       if constexpr (damaged)
         w *= 1.0 - state.broken[b];
       return w;
+    }
+
+  private:
+    template <std::size_t N, bool weighted, bool periodic, bool damaged, bool thermal, typename Add, typename Energy>
+    double
+    released_sums(const ModelState &before, const ModelState &now, const std::vector<unsigned int> &points,
+                  const Add &add, const Energy &energy) const
+    {
+      const double       *V        = now.cloud.volume.data();
+      const std::size_t  *offsets  = now.bonds.offsets.data();
+      const unsigned int *neighbor = now.bonds.neighbor.data();
+      const double       *m        = now.fields.get(weighted_volume).begin();
+      double              released = 0;
+      for (const unsigned int i : points)
+        {
+          if (m[i] == 0)
+            continue;
+          const BondOrigin origin(now.cloud.X.data(), now.u, i);
+          double           sums[2][N] = {}; // [0]: before, [1]: now
+          for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
+            {
+              const unsigned int j = neighbor[b];
+              double             y[3], r0, r, e;
+              bond<periodic, thermal>(now, origin, i, j, y, r0, r, e);
+              for (unsigned int k = 0; k < 2; ++k)
+                add(b, r0, e, weight<weighted, damaged>(k == 0 ? before : now, b) * V[j], sums[k]);
+            }
+          released += V[i] * (energy(i, sums[0]) - energy(i, sums[1]));
+        }
+      return released;
     }
   };
 
