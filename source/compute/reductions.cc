@@ -3,6 +3,9 @@
 #include <perideal/compute/reduction.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace perideal
@@ -15,7 +18,8 @@ namespace perideal
     {
     public:
       double
-      reduce(const std::vector<double> &q, const std::vector<double> &, const MPI_Comm comm) const override
+      reduce(const std::vector<double> &q, const std::vector<double> &, const std::vector<Point<3>> &,
+             const MPI_Comm comm) const override
       {
         double sum = 0;
         for (const double value : q)
@@ -28,7 +32,8 @@ namespace perideal
     {
     public:
       double
-      reduce(const std::vector<double> &q, const std::vector<double> &V, const MPI_Comm comm) const override
+      reduce(const std::vector<double> &q, const std::vector<double> &V, const std::vector<Point<3>> &,
+             const MPI_Comm comm) const override
       {
         double sums[2] = {0, 0};
         for (unsigned int j = 0; j < q.size(); ++j)
@@ -47,7 +52,8 @@ namespace perideal
     {
     public:
       double
-      reduce(const std::vector<double> &q, const std::vector<double> &, const MPI_Comm comm) const override
+      reduce(const std::vector<double> &q, const std::vector<double> &, const std::vector<Point<3>> &,
+             const MPI_Comm comm) const override
       {
         double best = std::numeric_limits<double>::max();
         for (const double value : q)
@@ -57,10 +63,76 @@ namespace perideal
     };
     using MinimumReduction = Extremum<1>;
     using MaximumReduction = Extremum<-1>;
+
+    /// Peridigm's Nearest_Point_Data: q at the point (or FE node) of the
+    /// region nearest to Location in the reference configuration. Of points
+    /// equally near, the one with the smallest (x, y, z) (lexicographic), so
+    /// that the choice is the same on any number of ranks.
+    class NearestPoint : public Reduction
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Location", "", Patterns::Anything(),
+                          "Operation = Nearest point: the place x, y, z (reference configuration) whose nearest "
+                          "point of the region gives the value, e.g. the end of a strain gauge.");
+      }
+
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      {
+        const std::string text = prm.get("Location");
+        AssertThrow(!text.empty(), ExcMessage(path + "/Location: Operation = Nearest point needs the location "
+                                                     "x, y, z whose nearest point gives the value"));
+        const std::vector<std::string> parts = Utilities::split_string_list(text, ',');
+        AssertThrow(parts.size() == 3,
+                    ExcMessage(path + "/Location: expected three numbers x, y, z, got '" + text + "'"));
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            char        *end   = nullptr;
+            const double value = std::strtod(parts[d].c_str(), &end);
+            AssertThrow(!parts[d].empty() && *end == '\0' && std::isfinite(value),
+                        ExcMessage(path + "/Location: '" + parts[d] + "' is not a number"));
+            location[d] = value;
+          }
+      }
+
+      bool
+      needs_positions() const override
+      {
+        return true;
+      }
+
+      double
+      reduce(const std::vector<double> &q, const std::vector<double> &, const std::vector<Point<3>> &x,
+             const MPI_Comm comm) const override
+      {
+        // This rank's best (squared distance, x, y, z, q); then the best of all.
+        std::array<double, 5> best{{std::numeric_limits<double>::infinity(), 0, 0, 0, 0}};
+        for (unsigned int j = 0; j < q.size(); ++j)
+          {
+            const std::array<double, 5> c{{x[j].distance_square(location), x[j][0], x[j][1], x[j][2], q[j]}};
+            if (std::lexicographical_compare(c.begin(), c.begin() + 4, best.begin(), best.begin() + 4))
+              best = c;
+          }
+        for (const auto &c : Utilities::MPI::all_gather(comm, best))
+          if (std::lexicographical_compare(c.begin(), c.begin() + 4, best.begin(), best.begin() + 4))
+            best = c;
+        return best[4];
+      }
+
+    private:
+      Point<3> location;
+    };
   } // namespace
 
   PERIDEAL_REGISTER(Reduction, SumReduction, "Sum", "the sum of q.")
   PERIDEAL_REGISTER(Reduction, MeanReduction, "Mean", "volume weighted, sum V q / sum V.")
   PERIDEAL_REGISTER(Reduction, MinimumReduction, "Minimum", "the smallest q.")
   PERIDEAL_REGISTER(Reduction, MaximumReduction, "Maximum", "the largest q.")
+  PERIDEAL_REGISTER(Reduction, NearestPoint, "Nearest point",
+                    "q at the point (or FE node) of the region nearest to Location in the reference configuration "
+                    "(Peridigm's Nearest_Point_Data; of equally near ones, the one with the smallest x, then y, "
+                    "then z: the same on any number of ranks).")
 } // namespace perideal

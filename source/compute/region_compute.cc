@@ -39,6 +39,8 @@ namespace perideal
                       "to point).");
     for (const auto &[name, entry] : Registry<PointQuantity>::instance().all())
       entry.declare(prm);
+    for (const auto &[name, entry] : Registry<Reduction>::instance().all())
+      entry.declare(prm);
   }
 
   void
@@ -56,6 +58,7 @@ namespace perideal
     quantity  = Registry<PointQuantity>::instance().create(variable, path + "/Variable");
     quantity->parse_parameters(prm, path);
     reduction = Registry<Reduction>::instance().create(operation, path + "/Operation");
+    reduction->parse_parameters(prm, path);
   }
 
   double
@@ -91,7 +94,9 @@ namespace perideal
   double
   RegionCompute::evaluate(const ComputeData &data, const double time, const MPI_Comm comm) const
   {
-    std::vector<double> q, V;
+    std::vector<double>   q, V;
+    std::vector<Point<3>> x;
+    const bool            positions = reduction->needs_positions();
     q.reserve(points.size() + nodes.size());
     V.reserve(points.size() + nodes.size());
     for (const unsigned int i : points)
@@ -99,6 +104,8 @@ namespace perideal
         const double value = quantity->value(data, i);
         q.push_back(reference ? std::abs(value - reference->value(data.cloud.position(i), time)) : value);
         V.push_back(data.cloud.volume[i]);
+        if (positions)
+          x.push_back(data.cloud.position(i));
       }
     for (const unsigned int k : nodes)
       {
@@ -107,7 +114,9 @@ namespace perideal
         const double value = quantity->node_value(data, k);
         q.push_back(reference ? std::abs(value - reference->value(node.x, time)) : value);
         V.push_back(data.continuum->mass.local_element(node.local) / (*data.node_density)[k]);
+        if (positions)
+          x.push_back(node.x);
       }
-    return reduction->reduce(q, V, comm);
+    return reduction->reduce(q, V, x, comm);
   }
 } // namespace perideal

@@ -583,6 +583,27 @@ namespace perideal
   }
 
   void
+  ForceModel::restore_damage_state(const DamageState &from)
+  {
+    if (from.bonds.updates != damage_updates)
+      {
+        broken = from.bonds.broken;
+        damage = from.bonds.damage;
+        // A new count, never one an earlier snapshot was taken at: the
+        // damage differs from every copy taken since from.
+        ++damage_updates;
+        n_neglected = from.n_neglected;
+        if (from.neglect_current)
+          neglect_checked = damage_updates;
+      }
+    if (neglecting)
+      {
+        neglected = from.neglected;
+        neglected.update_ghost_values();
+      }
+  }
+
+  void
   ForceModel::neglect_damaged_points()
   {
     // A point's damage changes only when a bond of its own breaks, so a rank

@@ -1,6 +1,6 @@
 // The parameters of the implicit solvers (Solver/Implicit): Newton, the
 // linear solver and its preconditioner, the re-solves while bonds break
-// (implicit_solver.h, quasistatic.cc, newmark.cc; Newmark's own beta and gamma
+// and the cuts of a step whose solve fails (implicit_solver.h, quasistatic.cc, newmark.cc; Newmark's own beta and gamma
 // are in newmark.cc).
 
 #include <perideal/solver/implicit.h>
@@ -21,7 +21,8 @@ namespace perideal
     prm.declare_entry("Absolute tolerance", "0", Patterns::Double(0),
                       "Newton also stops when |R| <= this (force units); 0: off.");
     prm.declare_entry("Maximum Newton iterations", "25", Patterns::Integer(1),
-                      "A solve that has not converged after this many iterations stops the run with an error.");
+                      "A solve that has not converged after this many iterations has failed: its step is cut "
+                      "(Adaptive steps), or the run stops with an error.");
     prm.declare_entry("Line search", "true", Patterns::Bool(),
                       "Backtracking line search on |R|: halve the Newton step (at most 10 times) "
                       "until |R| decreases.");
@@ -61,6 +62,17 @@ namespace perideal
     prm.declare_entry("Maximum damage solves", "20", Patterns::Integer(1),
                       "After a converged solve the damage models break bonds; the step is solved "
                       "again while bonds break, at most this many times (then a warning).");
+    prm.declare_entry("Adaptive steps", "true", Patterns::Bool(),
+                      "A step whose Newton solve fails (Maximum Newton iterations reached, a residual that is "
+                      "not finite, no descent) is cut: the state returns to the step's start (displacements, "
+                      "velocities, bond damage, history) and the step is done as sub-steps of half its length, "
+                      "halved again while a solve fails; after a sub-step whose solves took at most half of "
+                      "Maximum Newton iterations the sub-steps double again, up to the whole step (the size "
+                      "carries over to the next steps). Output and the globals stay at the steps' ends; each "
+                      "cut is reported, and the summary counts them. false: a failed solve stops the run.");
+    prm.declare_entry("Minimum step fraction", "0.001", Patterns::Double(0, 1),
+                      "Adaptive steps: a solve that fails at a sub-step that cannot be halved without going "
+                      "below this fraction of a step stops the run with an error.");
   }
 
   void
@@ -81,6 +93,11 @@ namespace perideal
                 ExcMessage("Solver/Implicit/Jacobian = Matrix free needs Tangent = Analytic (its "
                            "preconditioner is the analytic tangent's diagonal)"));
     max_damage_solves  = prm.get_integer("Maximum damage solves");
+    adaptive_steps     = prm.get_bool("Adaptive steps");
+    min_step_fraction  = prm.get_double("Minimum step fraction");
+    AssertThrow(!adaptive_steps || min_step_fraction > 0,
+                ExcMessage("Solver/Implicit/Minimum step fraction must be positive with Adaptive steps: the "
+                           "sub-steps of a step that keeps failing would never end"));
     AssertThrow(tolerance > 0 || absolute_tolerance > 0,
                 ExcMessage("Solver/Implicit/Tolerance and Absolute tolerance are both 0: Newton would never stop"));
     // Both are relative: at 1 or more Newton accepts the initial guess (no

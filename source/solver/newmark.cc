@@ -145,27 +145,30 @@ namespace perideal
       std::vector<double> &a         = state.acceleration;
 
       access->pcout << "Step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
-      const ImplicitSolver::LoadPathState step_start = newton.load_path_state();
-      state.for_each([&](const MechanicalState::DoF &d) {
-        const unsigned int k  = d.number;
-        newton.u_predicted[k] = d.u + dt * d.v + 0.5 * dt * dt * (1 - 2 * beta) * a[k];
-        v_predicted[k]        = d.v + dt * (1 - gamma) * a[k];
-        d.u                   = newton.u_predicted[k];
-      });
-      conditions.apply_prescribed(time, dt);
-      access->model.set_time(time, dt);
-      if (conditions.loads_depend_on_time)
-        conditions.evaluate_loads(time);
-      conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
-      newton.newmark_inertia = 1 / (beta * dt * dt);
-      newton.solve_step(step);
-      state.for_each([&](const MechanicalState::DoF &d) {
-        const unsigned int k = d.number;
-        a[k]                 = (d.u - newton.u_predicted[k]) * newton.newmark_inertia;
-        d.v                  = v_predicted[k] + gamma * dt * a[k];
-      });
-      state.distribute_velocity();
-      finish_step(step_start, step, time, n_steps);
+      advance(
+        step, t0 + (step - 1) * dt, time, dt, n_steps,
+        [&](const double t, const double h) {
+          state.for_each([&](const MechanicalState::DoF &d) {
+            const unsigned int k  = d.number;
+            newton.u_predicted[k] = d.u + h * d.v + 0.5 * h * h * (1 - 2 * beta) * a[k];
+            v_predicted[k]        = d.v + h * (1 - gamma) * a[k];
+            d.u                   = newton.u_predicted[k];
+          });
+          conditions.apply_prescribed(t, h);
+          access->model.set_time(t, h);
+          if (conditions.loads_depend_on_time)
+            conditions.evaluate_loads(t);
+          conditions.check_condition_values(conditions.first_nonfinite_condition(t), t);
+          newton.newmark_inertia = 1 / (beta * h * h);
+        },
+        [&](const double h) {
+          state.for_each([&](const MechanicalState::DoF &d) {
+            const unsigned int k = d.number;
+            a[k]                 = (d.u - newton.u_predicted[k]) * newton.newmark_inertia;
+            d.v                  = v_predicted[k] + gamma * h * a[k];
+          });
+          state.distribute_velocity();
+        });
     }
 
     void

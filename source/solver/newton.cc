@@ -250,11 +250,14 @@ namespace perideal
         const double target = std::max(implicit.tolerance * std::max(r_start, forces), implicit.absolute_tolerance);
         if (r <= target)
           break;
-        AssertThrow(it <= implicit.max_newton,
-                    ExcMessage("Newton did not converge in step " + std::to_string(step) + " after " +
-                               std::to_string(implicit.max_newton) + " iterations (|R| = " + sci(r) +
-                               ", wanted " + sci(target) + "): take more (smaller) steps (Solver/Number of steps) "
-                               "or raise Solver/Implicit/Maximum Newton iterations"));
+        if (it > implicit.max_newton)
+          {
+            result.failure = "Newton did not converge in step " + std::to_string(step) + " after " +
+                             std::to_string(implicit.max_newton) + " iterations (|R| = " + sci(r) + ", wanted " +
+                             sci(target) + "): take more (smaller) steps (Solver/Number of steps) or raise "
+                             "Solver/Implicit/Maximum Newton iterations";
+            break;
+          }
         assemble_tangent();
         const unsigned int linear = solve_linear(R, du);
         result.linear_iterations += linear;
@@ -272,18 +275,26 @@ namespace perideal
               break;
             alpha /= 2;
           }
-        AssertThrow(std::isfinite(r_new),
-                    ExcMessage("the residual became non-finite in step " + std::to_string(step) +
-                               ", Newton iteration " + std::to_string(it) + ": the step is too large"));
+        if (!std::isfinite(r_new))
+          {
+            result.failure = "the residual became non-finite in step " + std::to_string(step) +
+                             ", Newton iteration " + std::to_string(it) + ": the step is too large";
+            result.newton_iterations = it;
+            break;
+          }
         if (implicit.line_search && r_new > (1 - 1e-4 * alpha) * r)
           {
             // No descent along the Newton direction: at round-off, keep the
             // better state and stop; far from it, the tangent is wrong.
             const double scale = std::max(r_start, forces);
-            AssertThrow(r <= 1e-6 * scale,
-                        ExcMessage("Newton stagnated in step " + std::to_string(step) + " at |R| = " + sci(r) +
-                                   " (" + sci(r / scale) + " of the forces): the tangent does not match the "
-                                   "force (try Solver/Implicit/Tangent = Finite differences)"));
+            if (r > 1e-6 * scale)
+              {
+                result.failure = "Newton stagnated in step " + std::to_string(step) + " at |R| = " + sci(r) + " (" +
+                                 sci(r / scale) + " of the forces): the tangent does not match the force (try "
+                                 "Solver/Implicit/Tangent = Finite differences)";
+                result.newton_iterations = it;
+                break;
+              }
             for (unsigned int k = 0; k < n; ++k)
               unknown(k) = u0[k];
             r = residual(R, forces);
@@ -302,7 +313,7 @@ namespace perideal
     return result;
   }
 
-  void
+  bool
   ImplicitSolver::solve_step(const unsigned int step)
   {
     access.record.last_newton        = NewtonResult();
@@ -314,14 +325,19 @@ namespace perideal
         access.record.last_newton.newton_iterations += solve.newton_iterations;
         access.record.last_newton.linear_iterations += solve.linear_iterations;
         access.record.last_newton.residual = solve.residual;
+        if (!solve.failure.empty())
+          {
+            access.record.last_newton.failure = solve.failure;
+            return false;
+          }
         if (access.model.broken.empty())
-          return;
+          return true;
         ForceModel::DamageSnapshot before;
         if (access.deck.solver.track_dissipation)
           access.model.save_damage(before);
         const std::size_t newly = access.model.break_bonds();
         if (newly == 0)
-          return;
+          return true;
         if (access.deck.solver.track_dissipation)
           access.record.dissipated_energy += access.model.released_energy(before);
         pcout << "  " << newly / 2 << (access.model.continuous_damage() ? " bonds took more damage" : " bonds broke")
@@ -331,7 +347,7 @@ namespace perideal
             access.record.warnings.push_back("step " + std::to_string(step) + ": bonds still broke after " +
                                std::to_string(access.record.last_damage_solves) +
                                " solves (Solver/Implicit/Maximum damage solves)");
-            return;
+            return true;
           }
       }
   }
@@ -404,26 +420,120 @@ namespace perideal
   }
 
   void
-  ImplicitIntegrator::finish_step(const ImplicitSolver::LoadPathState &step_start, const unsigned int step,
-                                  const double time, const unsigned int n_steps)
+  ImplicitIntegrator::save(SubStepStart &into) const
   {
-    RunRecord   &record = access->record;
-    Postprocess &post   = access->post;
-    total_newton += record.last_newton.newton_iterations;
-    total_linear += record.last_newton.linear_iterations;
-    total_solves += record.last_damage_solves;
-    access->state.displacement.update_ghost_values();
-    access->model.compute_forces(true);
-    // The converged state is the step's: its history is the next step's start
-    // (Newton's iterations and line searches each recomputed it from the last
-    // commit).
-    access->model.commit_step();
-    record.external_work += implicit_solver->load_path_work(step_start);
+    const MechanicalState &state = access->state;
+    into.u.resize(state.size());
+    into.v.resize(state.size());
+    for (unsigned int k = 0; k < state.size(); ++k)
+      {
+        into.u[k] = state.u(k);
+        into.v[k] = state.v(k);
+      }
+    into.a = state.acceleration;
+    access->model.save_damage_state(into.damage);
+    into.dissipated_energy = access->record.dissipated_energy;
+  }
+
+  void
+  ImplicitIntegrator::restore(const SubStepStart &from) const
+  {
+    MechanicalState &state = access->state;
+    for (unsigned int k = 0; k < state.size(); ++k)
+      {
+        state.u(k) = from.u[k];
+        state.v(k) = from.v[k];
+      }
+    state.acceleration = from.a;
+    state.displacement.update_ghost_values();
+    access->model.restore_damage_state(from.damage);
+    access->record.dissipated_energy = from.dissipated_energy;
+  }
+
+  void
+  ImplicitIntegrator::advance(const unsigned int step, const double t_start, const double t_end, const double dt_step,
+                              const unsigned int n_steps, const std::function<void(double, double)> &prepare,
+                              const std::function<void(double)> &complete)
+  {
+    RunRecord                &record   = access->record;
+    Postprocess              &post     = access->post;
+    const ImplicitParameters &implicit = access->deck.solver.implicit;
+    const double              span     = t_end - t_start;
+    // "1/8 of the step", "0.75 of the step"
+    const auto fraction = [](const double f) {
+      if (f == 1)
+        return std::string("the whole step");
+      const long n = std::lround(1 / f);
+      return (std::abs(n * f - 1) < 1e-9 ? "1/" + std::to_string(n) : sci(f, 6)) + " of the step";
+    };
+    NewtonResult                  sum;
+    unsigned int                  solves = 0;
+    const bool                    cut    = implicit.adaptive_steps;
+    ImplicitSolver::LoadPathState load_start;
+    bool                          retry = false; // the sub-step starts where a failed one started
+    for (double t = t_start; t < t_end;)
+      {
+        // The last sub-step ends at t_end exactly: no sliver from round-off.
+        double t_next = t + step_fraction * span;
+        if (t_next >= t_end - 1e-9 * span)
+          t_next = t_end;
+        const double dt = t == t_start && t_next == t_end ? dt_step : t_next - t;
+        if (t != t_start || t_next != t_end)
+          access->pcout << "  sub-step to t = " << sci(t_next, 6) << ", " << fraction(dt / span) << std::endl;
+        // After a cut the forces are the failed iterate's: the load path
+        // starts from the state saved before it.
+        if (!retry)
+          {
+            if (cut)
+              save(sub_step_start);
+            load_start = implicit_solver->load_path_state();
+          }
+        prepare(t_next, dt);
+        const bool converged = implicit_solver->solve_step(step);
+        sum.newton_iterations += record.last_newton.newton_iterations;
+        sum.linear_iterations += record.last_newton.linear_iterations;
+        sum.residual = record.last_newton.residual;
+        solves += record.last_damage_solves;
+        if (!converged)
+          {
+            const std::string &failure = record.last_newton.failure;
+            AssertThrow(cut, ExcMessage(failure));
+            AssertThrow(step_fraction / 2 >= implicit.min_step_fraction,
+                        ExcMessage(failure + " (Solver/Implicit/Adaptive steps: the sub-step was " +
+                                   fraction(step_fraction) + "; half of it is below Minimum step fraction = " +
+                                   sci(implicit.min_step_fraction) + ")"));
+            restore(sub_step_start);
+            step_fraction /= 2;
+            ++record.step_cuts;
+            record.smallest_step_fraction = std::min(record.smallest_step_fraction, step_fraction);
+            access->pcout << "  step cut to " << fraction(step_fraction) << ": " << failure << std::endl;
+            retry = true;
+            continue;
+          }
+        retry = false;
+        const bool easy = record.last_newton.newton_iterations <= implicit.max_newton / 2;
+        complete(dt);
+        access->state.displacement.update_ghost_values();
+        access->model.compute_forces(true);
+        // The converged state is the sub-step's: its history is the next
+        // one's start (Newton's iterations and line searches each
+        // recomputed it from the last commit).
+        access->model.commit_step();
+        record.external_work += implicit_solver->load_path_work(load_start);
+        t = t_next;
+        if (easy && step_fraction < 1)
+          step_fraction *= 2;
+      }
+    record.last_newton        = sum;
+    record.last_damage_solves = solves;
+    total_newton += sum.newton_iterations;
+    total_linear += sum.linear_iterations;
+    total_solves += solves;
     if (post.output.is_output_step(step, n_steps))
-      post.write_output(step, time, post.output.is_globals_step(step, n_steps),
+      post.write_output(step, t_end, post.output.is_globals_step(step, n_steps),
                         post.output.is_field_step(step, n_steps));
     if (interrupt_signal(access->comm) != 0)
-      access->stop_interrupted(step, time, n_steps, loop_seconds());
+      access->stop_interrupted(step, t_end, n_steps, loop_seconds());
   }
 
   void
@@ -437,6 +547,10 @@ namespace perideal
   ImplicitIntegrator::report_summary_speed(const double, const unsigned int) const
   {
     access->pcout << "  tangent:                " << implicit_solver->describe_tangent() << "\n";
+    const RunRecord &record = access->record;
+    if (record.step_cuts > 0)
+      access->pcout << "  step cuts:              " << record.step_cuts << " (Solver/Implicit/Adaptive steps; the "
+                    << "smallest sub-step 1/" << std::lround(1 / record.smallest_step_fraction) << " of a step)\n";
   }
 
   void

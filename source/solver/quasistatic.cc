@@ -96,17 +96,19 @@ namespace perideal
       ConditionSet    &conditions = access->conditions;
       const double     time       = t0 + step * dt_load;
       access->pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
-      const ImplicitSolver::LoadPathState step_start = implicit_solver->load_path_state();
-      conditions.apply_prescribed(time, dt_load);
-      access->model.set_time(time, dt_load);
-      // No motion between load steps (apply_prescribed sets the supports'
-      // rate), so no kinetic energy.
-      access->state.set_velocity_zero();
-      if (conditions.loads_depend_on_time)
-        conditions.evaluate_loads(time);
-      conditions.check_condition_values(conditions.first_nonfinite_condition(time), time);
-      implicit_solver->solve_step(step);
-      finish_step(step_start, step, time, n_steps);
+      advance(
+        step, t0 + (step - 1) * dt_load, time, dt_load, n_steps,
+        [&](const double t, const double dt) {
+          conditions.apply_prescribed(t, dt);
+          access->model.set_time(t, dt);
+          // No motion between load steps (apply_prescribed sets the
+          // supports' rate), so no kinetic energy.
+          access->state.set_velocity_zero();
+          if (conditions.loads_depend_on_time)
+            conditions.evaluate_loads(t);
+          conditions.check_condition_values(conditions.first_nonfinite_condition(t), t);
+        },
+        [](double) {});
     }
 
     void

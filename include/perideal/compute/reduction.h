@@ -9,7 +9,9 @@
 #include <perideal/base/registry.h>
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/point.h>
 
+#include <string>
 #include <vector>
 
 namespace perideal
@@ -17,16 +19,31 @@ namespace perideal
   class Reduction
   {
   public:
-    /// A reduction has no keys of its own.
+    /// Most reductions have no keys of their own. Those that do (Nearest
+    /// point) declare them in every compute's section, documented as theirs.
     static void
     declare_parameters(ParameterHandler &)
     {}
 
     virtual ~Reduction() = default;
 
+    /// Reads the reduction's own keys of the compute's section @p path.
+    virtual void
+    parse_parameters(ParameterHandler &, const std::string & /*path*/)
+    {}
+
+    /// Whether reduce() needs the reference positions of the values.
+    virtual bool
+    needs_positions() const
+    {
+      return false;
+    }
+
     /// The result over all ranks of this rank's values @p q with their
-    /// volumes @p V (the region's points, then its FE nodes). Collective.
+    /// volumes @p V and, if needs_positions(), their reference positions
+    /// @p x (else empty): the region's points, then its FE nodes. Collective.
     virtual double
-    reduce(const std::vector<double> &q, const std::vector<double> &V, const MPI_Comm comm) const = 0;
+    reduce(const std::vector<double> &q, const std::vector<double> &V, const std::vector<dealii::Point<3>> &x,
+           const MPI_Comm comm) const = 0;
   };
 } // namespace perideal

@@ -118,6 +118,30 @@ namespace perideal
       into.damage  = damage;
       into.updates = damage_updates;
     }
+    /// What a cut implicit step returns to: the bond damage and the
+    /// neglected points.
+    struct DamageState
+    {
+      DamageSnapshot bonds;
+      VectorType     neglected; // only with neglect
+      std::size_t    n_neglected     = 0;
+      bool           neglect_current = true; // the points were checked at this damage
+    };
+    /// Copies the damage state of now into @p into (the bonds only if they
+    /// changed since @p into was taken, as save_damage()).
+    void
+    save_damage_state(DamageState &into) const
+    {
+      save_damage(into.bonds);
+      if (neglecting)
+        into.neglected = neglected;
+      into.n_neglected     = n_neglected;
+      into.neglect_current = neglect_checked == damage_updates;
+    }
+    /// Returns to @p from (taken by save_damage_state()); nothing to do if no
+    /// bond changed since. Collective only with neglect.
+    void
+    restore_damage_state(const DamageState &from);
     /// The strain energy that bond damage released at the current state:
     /// with the damage of @p before minus with that of now, summed over
     /// ranks (for continuous damage the energy released as d rose, to first

@@ -183,6 +183,7 @@ namespace perideal
   {
     unsigned int newton_iterations = 0, linear_iterations = 0;
     double       residual          = 0;
+    std::string  failure; // why the solve failed (the run's error without adaptive steps); empty: converged
   };
 
   /// Time step and energy bookkeeping of a run, and its warnings.
@@ -203,6 +204,9 @@ namespace perideal
     double       setup_seconds     = 0;
     NewtonResult last_newton;           // implicit runs: the last step's solves
     unsigned int last_damage_solves = 0;
+    // Implicit runs, Adaptive steps: the sub-steps cut so far, the smallest fraction of a step.
+    unsigned int step_cuts = 0;
+    double       smallest_step_fraction = 1;
     std::vector<std::string> warnings;
   };
 } // namespace perideal

@@ -3,7 +3,7 @@
 // Newmark-beta: Newton with a backtracking line search, a Krylov solver (CG,
 // or GMRES) preconditioned by Trilinos ML AMG with the six rigid-body modes as
 // near null space, the re-solve of a step while bonds break, and Newmark's
-// beta and gamma. The solver is ImplicitSolver (implicit_solver.h), the
+// beta and gamma, and the cuts of a step whose solve fails. The solver is ImplicitSolver (implicit_solver.h), the
 // integrators QuasiStatic and Newmark.
 
 #include <perideal/base/input.h>
@@ -26,6 +26,8 @@ namespace perideal
     std::string  tangent            = "Analytic";
     std::string  jacobian           = "Assembled";
     unsigned int max_damage_solves  = 20;
+    bool         adaptive_steps     = true;  // cut a step whose solve fails
+    double       min_step_fraction  = 1e-3; // the smallest sub-step, per step
 
     static void
     declare_parameters(ParameterHandler &prm);

@@ -11,6 +11,7 @@
 // globals columns (Newton's counts, the reactions) and the reports.
 
 #include <perideal/conditions/condition_set.h>
+#include <perideal/model/force_model.h>
 #include <perideal/solver/coupled_tangent.h>
 #include <perideal/solver/implicit.h>
 #include <perideal/solver/tangent.h>
@@ -20,6 +21,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,9 +39,11 @@ namespace perideal
     void
     setup(const bool need_supports);
     /// Newton, then break bonds and solve again while bonds break; sets
-    /// record.last_newton (iterations summed over the solves) and
-    /// record.last_damage_solves.
-    void
+    /// record.last_newton (iterations summed over the solves, the failure)
+    /// and record.last_damage_solves. False if a solve failed: the state is
+    /// then the failed iterate's (ImplicitIntegrator::advance() returns to
+    /// the step's start).
+    bool
     solve_step(const unsigned int step);
     /// The tangent's kind and size, for the reports. Collective.
     std::string
@@ -136,14 +140,24 @@ namespace perideal
     /// A scene with continuum blocks needs the assembled Jacobian.
     static void
     check_jacobian(const SolverParameters &solver, const bool has_continuum);
-    /// The end of every accepted step, after the solve: counts its Newton
-    /// and linear iterations, evaluates the converged state (forces,
-    /// energies), adds the loads' work since @p step_start, writes the
-    /// step's output, then stops the run if a rank has received SIGTERM or
-    /// SIGINT (one reduction per step).
+    /// Step @p step, from @p t_start to @p t_end (of length @p dt_step, as
+    /// the integrator computes it, passed whole when the step is not cut): @p prepare(t, dt) sets up
+    /// the solve of the (sub-)step of length dt that ends at t (prescribed
+    /// values, the model's time, Newmark's predictor), @p complete(dt)
+    /// follows its converged solve (Newmark's corrector). Each converged
+    /// (sub-)step is evaluated (forces, energies), committed, and adds the
+    /// loads' work over it. With Adaptive steps a failed solve returns to the
+    /// sub-step's start (displacements, velocities, accelerations, bond
+    /// damage, released energy; the history is not committed yet) and cuts
+    /// it (Solver/Implicit/Adaptive steps); without, or below Minimum step
+    /// fraction, it stops the run. Then the step's output is written and
+    /// the run stops if a rank has received SIGTERM or SIGINT (one
+    /// reduction per step). record.last_newton and last_damage_solves sum
+    /// the step's solves, failed ones included.
     void
-    finish_step(const ImplicitSolver::LoadPathState &step_start, const unsigned int step, const double time,
-                const unsigned int n_steps);
+    advance(const unsigned int step, const double t_start, const double t_end, const double dt_step,
+            const unsigned int n_steps,
+            const std::function<void(double, double)> &prepare, const std::function<void(double)> &complete);
     /// Seconds since the loop started (start_loop()).
     double
     loop_seconds() const;
@@ -154,6 +168,20 @@ namespace perideal
     unsigned int                    total_newton = 0, total_linear = 0, total_solves = 0;
 
   private:
+    /// What a cut returns to; kept, so that a step allocates nothing.
+    struct SubStepStart
+    {
+      std::vector<double>        u, v, a; // per DoF (a: Newmark)
+      ForceModel::DamageState    damage;
+      double                     dissipated_energy = 0;
+    };
+    void
+    save(SubStepStart &into) const;
+    void
+    restore(const SubStepStart &from) const;
+
     std::chrono::steady_clock::time_point start;
+    double       step_fraction = 1; // of a step, the sub-steps' length (Adaptive steps)
+    SubStepStart sub_step_start;
   };
 } // namespace perideal
