@@ -1,0 +1,1817 @@
+#!/usr/bin/env python3
+"""peridigm_to_prm.py DECK [-o OUT.prm] [--partial] [options]: a Peridigm input
+deck (YAML or Teuchos XML) as a PeriDeal parameter file.
+
+  apps/peridigm_to_prm.py fragmenting_cylinder.yaml -o params.prm
+  apps/peridigm_to_prm.py tensile_test.yaml --mesh dogbone.msh \\
+      --node-set nodelist_1=box:-1,-1,-1:-0.046,1,1 -o params.prm
+
+Without -o the parameter file goes to standard output. Every key or feature
+that has no PeriDeal equivalent is named on standard error as
+
+  DECK:LINE: cannot convert 'Section/Key': reason
+
+(LINE is the deck's line of that key). If any of them matters for the
+physics (geometry, material, damage, blocks, conditions, solver, contact) the
+converter exits with status 1 and writes nothing, unless --partial is given,
+in which case it writes what it could convert (still exiting with 1).
+Features it converts only approximately are named as 'DECK:LINE: warning:
+...' and do not change the exit status. Lines it could not convert that only
+concern output (an output variable PeriDeal does not write, a compute class
+it does not have) are reported but are not essential.
+
+Options:
+  --mesh FILE.msh        Peridigm's Exodus discretization is read from this
+                         hexahedral Gmsh mesh instead (PeriDeal reads no
+                         Exodus): Exodus block_N is the Gmsh volume physical
+                         group N (material id N).
+  --node-set NAME=SPEC   what a Peridigm node set (an Exodus node set, a file
+                         or list of node numbers) is in space, as a PeriDeal
+                         region: box:X0,Y0,Z0:X1,Y1,Z1, expression:EXPR (a
+                         muparser expression in x, y, z, non-zero inside) or
+                         group:N[:DIM] (a Gmsh physical group, DIM 3 or 2).
+                         May be repeated.
+  --seed N               Random seed of conditions whose value uses rnd()
+                         (default 1, as doc/examples/fragmenting_cylinder).
+
+Both formats are read without third-party modules: the YAML subset Peridigm
+decks use (nested mappings by indentation, 'key: value', quoted strings,
+comments) and Teuchos XML ParameterLists (with expat, for line numbers).
+Peridigm's expressions (muParser in version 1.0, RTCompiler later: 'value =
+...;', 'if (...) { ... } else { ... }', local variables) become PeriDeal's
+muparser expressions ('if' becomes '?:'). doc/peridigm.md has the table of
+what maps to what, and the traps.
+"""
+
+import argparse
+import math
+import os
+import re
+import sys
+import xml.parsers.expat
+
+
+# --------------------------------------------------------------- the deck tree
+
+
+class DeckError(Exception):
+    """A deck that cannot be read at all (syntax), at a line."""
+
+    def __init__(self, line, message):
+        super().__init__(message)
+        self.line = line
+        self.message = message
+
+
+class Node:
+    """A ParameterList (children is a dict, value None) or a Parameter (value a
+    string). line: where its key stands in the deck."""
+
+    def __init__(self, name, line, value=None, parent=None):
+        self.name = name
+        self.line = line
+        self.value = value
+        self.parent = parent
+        self.children = None if value is not None else {}
+        self.used = False
+
+    def is_list(self):
+        return self.children is not None
+
+    def add(self, child):
+        if child.name in self.children:
+            first = self.children[child.name]
+            where = re.sub(r"^Peridigm(/|$)", "", self.path())
+            raise DeckError(child.line, "'%s' given twice in '%s' (also line %d)" %
+                            (child.name, where or "the top level", first.line))
+        child.parent = self
+        self.children[child.name] = child
+
+    def path(self):
+        parts = []
+        node = self
+        while node is not None and node.parent is not None:
+            parts.append(node.name)
+            node = node.parent
+        return "/".join(reversed(parts))
+
+    def last_line(self):
+        last = max(self.line, getattr(self, "end_line", 0))
+        if self.children:
+            for c in self.children.values():
+                last = max(last, c.last_line())
+        return last
+
+
+def _strip_yaml_comment(s):
+    """s without a trailing ' # comment' (outside quotes)."""
+    quote = None
+    i = 0
+    while i < len(s):
+        c = s[i]
+        if quote == '"':
+            if c == "\\":
+                i += 1
+            elif c == '"':
+                quote = None
+        elif quote == "'":
+            if c == "'":
+                quote = None
+        elif c in "\"'" and (i == 0 or s[i - 1] in " :\t"):
+            quote = c
+        elif c == "#" and (i == 0 or s[i - 1] in " \t"):
+            return s[:i].rstrip()
+        i += 1
+    return s.rstrip()
+
+
+def _yaml_double_quoted(s, line):
+    """The string of a double-quoted YAML scalar s (starting with '"') and the
+    text after its closing quote."""
+    out = []
+    i = 1
+    while i < len(s):
+        c = s[i]
+        if c == "\\":
+            if i + 1 >= len(s):
+                break
+            e = s[i + 1]
+            out.append({"n": "\n", "t": "\t", '"': '"', "\\": "\\", "/": "/"}.get(e, e))
+            i += 2
+            continue
+        if c == '"':
+            return "".join(out), s[i + 1:]
+        out.append(c)
+        i += 1
+    raise DeckError(line, "a string opened with \" is not closed on its line")
+
+
+def _yaml_single_quoted(s, line):
+    out = []
+    i = 1
+    while i < len(s):
+        if s[i] == "'":
+            if i + 1 < len(s) and s[i + 1] == "'":
+                out.append("'")
+                i += 2
+                continue
+            return "".join(out), s[i + 1:]
+        out.append(s[i])
+        i += 1
+    raise DeckError(line, "a string opened with ' is not closed on its line")
+
+
+def _yaml_scalar(text, line):
+    text = text.strip()
+    if text.startswith('"'):
+        value, rest = _yaml_double_quoted(text, line)
+    elif text.startswith("'"):
+        value, rest = _yaml_single_quoted(text, line)
+    else:
+        if text[:1] in ("[", "{", "&", "*", "|", ">", "!", "%", "@", "`"):
+            raise DeckError(line, "YAML '%s' (flow collections, anchors, block scalars, tags) "
+                            "is not in the subset Peridigm decks use" % text[:1])
+        return text
+    if rest.strip():
+        raise DeckError(line, "text after the closing quote: '%s'" % rest.strip())
+    return value
+
+
+def parse_yaml(text):
+    """The deck's tree. Nested mappings by indentation (spaces), 'key: value'
+    and 'key:' lines, quoted or plain scalars, '#' comments."""
+    root = Node("", 0)
+    stack = [(-1, root)]  # open mappings: (indentation of their key, node)
+    child_indent = {id(root): None}
+    for number, raw in enumerate(text.split("\n"), 1):
+        raw = raw.rstrip("\r")
+        if not raw.strip() or raw.lstrip().startswith("#"):
+            continue
+        body = raw.lstrip(" ")
+        indent = len(raw) - len(body)
+        if body.startswith("\t"):
+            raise DeckError(number, "indentation by a tab (YAML indents with spaces)")
+        body = _strip_yaml_comment(body)
+        if body in ("---", "..."):
+            continue
+        if body.startswith("- ") or body == "-":
+            raise DeckError(number, "a YAML sequence ('- item'): Peridigm decks are mappings only")
+        # The key: quoted, or plain up to the first ': ' or a final ':'.
+        if body[0] in "\"'":
+            key, after = (_yaml_double_quoted if body[0] == '"' else _yaml_single_quoted)(body, number)
+            if not after.startswith(":"):
+                raise DeckError(number, "no ':' after the key %s" % body[: len(key) + 2])
+            rest = after[1:]
+        else:
+            m = re.search(r":(\s|$)", body)
+            if not m:
+                raise DeckError(number, "no 'key: value' on this line: '%s'" % body)
+            key, rest = body[: m.start()].strip(), body[m.start() + 1:]
+        if not key:
+            raise DeckError(number, "an empty key")
+        while stack[-1][0] >= indent:
+            stack.pop()
+        parent = stack[-1][1]
+        expected = child_indent[id(parent)]
+        if expected is None:
+            child_indent[id(parent)] = indent
+        elif expected != indent:
+            last = list(parent.children.values())[-1] if parent.children else None
+            if indent > expected and last is not None and not last.is_list():
+                raise DeckError(number, "'%s' (line %d) has a value, so it cannot have entries"
+                                % (last.name, last.line))
+            raise DeckError(number, "indented by %d spaces where the entries of '%s' are indented by %d"
+                            % (indent, re.sub(r"^Peridigm(/|$)", "", parent.path()) or "the top level",
+                               expected))
+        if rest.strip():
+            node = Node(key, number, _yaml_scalar(rest, number))
+            parent.add(node)
+        else:
+            node = Node(key, number)
+            parent.add(node)
+            stack.append((indent, node))
+            child_indent[id(node)] = None
+    return root
+
+
+def parse_xml(text):
+    """The deck's tree from Teuchos XML: <ParameterList name="..."> and
+    <Parameter name="..." type="..." value="..."/>, with expat's line numbers."""
+    parser = xml.parsers.expat.ParserCreate()
+    root = Node("", 0)
+    stack = []
+    state = {"seen_root": False}
+
+    def start(tag, attrs):
+        line = parser.CurrentLineNumber
+        if stack and not stack[-1].is_list():
+            raise DeckError(line, "<%s> inside a <Parameter>" % tag)
+        if tag == "ParameterList":
+            if not stack:
+                if state["seen_root"]:
+                    raise DeckError(line, "a second top-level <ParameterList>")
+                state["seen_root"] = True
+                root.line = line
+                stack.append(root)
+                return
+            if "name" not in attrs:
+                raise DeckError(line, "a <ParameterList> without a name")
+            node = Node(attrs["name"], line)
+            stack[-1].add(node)
+            stack.append(node)
+        elif tag == "Parameter":
+            if not stack:
+                raise DeckError(line, "a <Parameter> outside every <ParameterList>")
+            for a in ("name", "value"):
+                if a not in attrs:
+                    raise DeckError(line, "a <Parameter> without '%s'" % a)
+            node = Node(attrs["name"], line, attrs["value"])
+            node.xml_type = attrs.get("type", "")
+            stack[-1].add(node)
+            stack.append(node)
+        else:
+            raise DeckError(line, "<%s>: a Peridigm XML deck holds only <ParameterList> and <Parameter>" % tag)
+
+    def end(tag):
+        stack.pop().end_line = parser.CurrentLineNumber
+
+    parser.StartElementHandler = start
+    parser.EndElementHandler = end
+    try:
+        parser.Parse(text, True)
+    except xml.parsers.expat.ExpatError as e:
+        raise DeckError(e.lineno, "XML: %s" % xml.parsers.expat.ErrorString(e.code))
+    if not state["seen_root"]:
+        raise DeckError(1, "no <ParameterList>")
+    return root
+
+
+def read_deck(path):
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    if text.lstrip().startswith("<"):
+        root = parse_xml(text)
+    else:
+        root = parse_yaml(text)
+        # Peridigm's YAML decks hang everything under 'Peridigm:'.
+        if len(root.children) == 1:
+            (only,) = root.children.values()
+            if only.is_list() and only.name == "Peridigm":
+                only.parent = None
+                return only
+    root.parent = None
+    return root
+
+
+# ------------------------------------------------------------- the .prm output
+
+
+class Prm:
+    """A subsection of the parameter file: comments, set lines, subsections."""
+
+    def __init__(self, name=None):
+        self.name = name
+        self.items = []
+
+    def comment(self, text):
+        for line in text.split("\n"):
+            self.items.append(("comment", line))
+
+    def set(self, key, value, comment=None):
+        """Set key (again: its value changes in place); new keys go before the
+        first subsection, with their comment lines."""
+        for item in self.items:
+            if item[0] == "set" and item[1] == key:
+                item[2] = value
+                return
+        at = next((i for i, item in enumerate(self.items) if item[0] == "sub"), len(self.items))
+        new = [("comment", line) for line in comment.split("\n")] if comment else []
+        self.items[at:at] = new + [["set", key, value]]
+
+    def sub(self, name):
+        for item in self.items:
+            if item[0] == "sub" and item[1].name == name:
+                return item[1]
+        s = Prm(name)
+        self.items.append(("sub", s))
+        return s
+
+    def render(self, depth=0):
+        pad = "  " * depth
+        out = []
+        width = max([len(i[1]) for i in self.items if i[0] == "set"] or [0])
+        for item in self.items:
+            if item[0] == "comment":
+                out.append((pad + "# " + item[1]).rstrip() if item[1] else pad + "#")
+            elif item[0] == "set":
+                out.append(("%sset %-*s = %s" % (pad, width, item[1], item[2])).rstrip())
+            else:
+                out.append("%ssubsection %s" % (pad, item[1].name))
+                out.extend(item[1].render(depth + 1))
+                out.append("%send" % pad)
+        return out
+
+
+# ------------------------------------------------------------ the expressions
+
+_FUNCTIONS = {
+    # Peridigm (C library / RTCompiler / muParser) -> PeriDeal's muparser.
+    "sin": "sin", "cos": "cos", "tan": "tan", "asin": "asin", "acos": "acos", "atan": "atan",
+    "atan2": "atan2", "sinh": "sinh", "cosh": "cosh", "tanh": "tanh", "exp": "exp",
+    "sqrt": "sqrt", "abs": "abs", "fabs": "abs", "pow": "pow", "floor": "floor", "ceil": "ceil",
+    "min": "min", "max": "max", "rnd": "rnd", "log10": "log10", "sign": "sign",
+    # C's and RTCompiler's log is the natural logarithm; muparser's log is
+    # base 10 and its natural logarithm is ln.
+    "log": "ln", "ln": "ln",
+}
+
+_TOKEN = re.compile(r"\s*(?:(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)|([A-Za-z_]\w*)|"
+                    r"(==|!=|<=|>=|&&|\|\||[-+*/^(),;{}=<>!?:%]))")
+
+
+class ExprError(Exception):
+    pass
+
+
+def _tokens(text):
+    text = text.replace("\\{", "{").replace("\\}", "}")
+    out = []
+    pos = 0
+    text = text.rstrip()
+    while pos < len(text):
+        m = _TOKEN.match(text, pos)
+        if not m or m.end() == pos:
+            raise ExprError("cannot read '%s'" % text[pos:].strip()[:20])
+        if m.group(1):
+            out.append(("num", m.group(1)))
+        elif m.group(2):
+            out.append(("id", m.group(2)))
+        else:
+            out.append(("op", m.group(3)))
+        pos = m.end()
+    return out
+
+
+def translate_expression(text, variables=("x", "y", "z", "t")):
+    """A Peridigm function string (muParser or RTCompiler) as a muparser
+    expression in the given variables. Raises ExprError."""
+    tokens = _tokens(text)
+    if not tokens:
+        raise ExprError("empty")
+    has_statements = any(t == ("op", ";") or t == ("op", "=") or t == ("id", "if") for t in tokens)
+
+    def expr_text(toks, env):
+        out = []
+        for i, (kind, tok) in enumerate(toks):
+            nxt = toks[i + 1] if i + 1 < len(toks) else None
+            if kind == "id":
+                if nxt == ("op", "("):
+                    if tok not in _FUNCTIONS:
+                        raise ExprError("function '%s' has no muparser equivalent here" % tok)
+                    out.append(_FUNCTIONS[tok])
+                elif tok in env:
+                    if env[tok] is None:
+                        raise ExprError("'%s' is used before it is set" % tok)
+                    out.append("(" + env[tok] + ")")
+                elif tok in variables:
+                    out.append(tok)
+                else:
+                    raise ExprError("unknown name '%s' (PeriDeal's expressions know %s)"
+                                    % (tok, ", ".join(variables)))
+            elif kind == "op" and tok in ("!", "%", "{", "}", ";", "="):
+                raise ExprError("'%s' has no muparser equivalent" % tok)
+            else:
+                out.append(tok)
+        s = ""
+        for tok in out:
+            # Two words or numbers in a row keep a space between them.
+            if s and (s[-1].isalnum() or s[-1] in "_.") and (tok[0].isalnum() or tok[0] in "_."):
+                s += " "
+            s += tok
+        return s
+
+    if not has_statements:
+        return expr_text(tokens, {})
+
+    # RTCompiler statements: [double] NAME = expr; if (cond) {..} else {..}
+    pos = [0]
+
+    def peek():
+        return tokens[pos[0]] if pos[0] < len(tokens) else None
+
+    def take(expected=None):
+        tok = peek()
+        if tok is None or (expected is not None and tok != expected):
+            raise ExprError("expected '%s'" % (expected[1] if expected else "more"))
+        pos[0] += 1
+        return tok
+
+    def until_statement_end():
+        start = pos[0]
+        depth = 0
+        while pos[0] < len(tokens):
+            tok = tokens[pos[0]]
+            if tok == ("op", "("):
+                depth += 1
+            elif tok == ("op", ")"):
+                depth -= 1
+            elif depth == 0 and tok in (("op", ";"), ("op", "}")):
+                break
+            pos[0] += 1
+        return tokens[start:pos[0]]
+
+    def condition():
+        take(("op", "("))
+        start = pos[0]
+        depth = 1
+        while True:
+            tok = take()
+            if tok == ("op", "("):
+                depth += 1
+            elif tok == ("op", ")"):
+                depth -= 1
+                if depth == 0:
+                    return tokens[start:pos[0] - 1]
+
+    def block(env):
+        if peek() == ("op", "{"):
+            take()
+            while peek() != ("op", "}"):
+                if peek() is None:
+                    raise ExprError("'{' not closed")
+                statement(env)
+            take()
+        else:
+            statement(env)
+
+    def statement(env):
+        tok = peek()
+        if tok == ("op", ";"):
+            take()
+            return
+        if tok == ("id", "if"):
+            take()
+            cond = expr_text(condition(), env)
+            then_env = dict(env)
+            block(then_env)
+            else_env = dict(env)
+            if peek() == ("id", "else"):
+                take()
+                block(else_env)
+            for name in set(then_env) | set(else_env):
+                a, b = then_env.get(name), else_env.get(name)
+                if a == b:
+                    env[name] = a
+                elif a is None or b is None:
+                    raise ExprError("'%s' is set on one branch of an if only" % name)
+                else:
+                    env[name] = "(%s) ? (%s) : (%s)" % (cond, a, b)
+            return
+        if tok in (("id", "double"), ("id", "float"), ("id", "int")):
+            take()
+            tok = peek()
+        if tok is None or tok[0] != "id":
+            raise ExprError("expected a statement")
+        name = take()[1]
+        if name in variables:
+            raise ExprError("assigns to the variable '%s'" % name)
+        take(("op", "="))
+        env[name] = expr_text(until_statement_end(), env)
+        if not env[name]:
+            raise ExprError("'%s = ' without a value" % name)
+        if peek() == ("op", ";"):
+            take()
+
+    env = {"value": "0"}
+    while peek() is not None:
+        statement(env)
+    return env["value"]
+
+
+# ------------------------------------------------------------- the conversion
+
+
+def is_number(s):
+    try:
+        float(s)
+        return True
+    except (TypeError, ValueError):
+        return False
+
+
+def fmt(v):
+    """A float as the shortest text that reads back the same."""
+    if float(v) == int(v) and abs(v) < 1e15:
+        return str(int(v))
+    return repr(float(v))
+
+
+def num(s):
+    """A deck number as written, tidied (a Teuchos double '7800.0' stays)."""
+    return s.strip()
+
+
+class Converter:
+    ESSENTIAL_SECTIONS = ("Discretization", "Materials", "Blocks", "Solver")
+
+    def __init__(self, deck_path, root, args):
+        self.deck = deck_path
+        self.root = root
+        self.args = args
+        self.messages = []  # (line, order, text, essential)
+        self.essential_failures = 0
+        self.prm = Prm()
+        self.sections = {}
+        self.disc_type = None  # Box, Cylinder shell, Gmsh
+        self.block_map = {}  # Peridigm discretization block name -> PeriDeal block name
+        self.block_ids = {}  # Peridigm discretization block name -> Gmsh material id
+        self.regions = {}  # PeriDeal region name -> (type, dict)
+        self.region_order = []
+        self.node_set_defs = {}  # node sets defined in Boundary Conditions: name -> node
+        self.node_set_specs = {}
+        self.labels = set()  # compute output labels (globals CSV columns)
+        self.materials = {}
+        self.damage_models = {}
+        for spec in args.node_set or []:
+            if "=" not in spec:
+                sys.exit("peridigm_to_prm.py: --node-set %s: expected NAME=SPEC" % spec)
+            name, what = spec.split("=", 1)
+            self.node_set_specs[name.strip()] = what.strip()
+
+    # --- messages
+
+    def _line(self, node):
+        return node.line if node is not None else 0
+
+    def cannot(self, node, reason, essential=True, path=None):
+        path = path or (node.path() if node is not None else "")
+        self.messages.append((self._line(node), len(self.messages),
+                              "%s:%d: cannot convert '%s': %s" % (self.deck, self._line(node), path, reason),
+                              essential))
+        if essential:
+            self.essential_failures += 1
+
+    def warn(self, node, reason, path=None):
+        path = path or node.path()
+        self.messages.append((self._line(node), len(self.messages),
+                              "%s:%d: warning: '%s': %s" % (self.deck, self._line(node), path, reason), False))
+
+    def lines(self, node):
+        a, b = node.line, node.last_line()
+        return "line %d" % a if a == b else "lines %d-%d" % (a, b)
+
+    def from_comment(self, section, node, what=None):
+        section.comment("From %s, %s%s." % (os.path.basename(self.deck), self.lines(node),
+                                            " (" + what + ")" if what else " ('%s')" % node.path()))
+
+    # --- reading keys
+
+    def child(self, node, key):
+        if node is None or not node.is_list():
+            return None
+        c = node.children.get(key)
+        if c is not None:
+            c.used = True
+        return c
+
+    def text(self, node, key, required=False, essential=True):
+        c = self.child(node, key)
+        if c is None:
+            if required:
+                self.cannot(node, "'%s' is missing" % key, essential, path=node.path() + "/" + key)
+            return None
+        if c.is_list():
+            self.cannot(c, "a value was expected, not a list", essential)
+            return None
+        if "#" in c.value or "\n" in c.value:
+            self.cannot(c, "a value with '#' or a line break: a PeriDeal parameter file reads '#' as the "
+                        "start of a comment", essential)
+            return None
+        return c.value.strip()
+
+    def bad_name(self, node, essential=True):
+        """True (and reported) if node's name cannot be a PeriDeal entry name."""
+        if any(ch in node.name for ch in ",#\n") or not node.name.strip():
+            self.cannot(node, "the name '%s' cannot be a PeriDeal entry name (no commas, no '#': the names "
+                        "are a comma separated list)" % node.name, essential)
+            self.skip(node)
+            return True
+        return False
+
+    def number(self, node, key, required=False, essential=True, integer=False):
+        c = self.child(node, key)
+        if c is None:
+            if required:
+                self.cannot(node, "'%s' is missing" % key, essential, path=node.path() + "/" + key)
+            return None
+        if c.is_list() or not is_number(c.value) or (integer and not re.fullmatch(r"\s*[-+]?\d+\s*", c.value)):
+            self.cannot(c, "'%s' is not %s" % (c.value if not c.is_list() else "a list",
+                                               "an integer" if integer else "a number"), essential)
+            return None
+        return c.value.strip()
+
+    def boolean(self, node, key):
+        c = self.child(node, key)
+        if c is None:
+            return None
+        v = (c.value or "").strip().lower()
+        if v in ("true", "yes", "on", "1"):
+            return True
+        if v in ("false", "no", "off", "0"):
+            return False
+        self.cannot(c, "'%s' is not true or false" % c.value)
+        return None
+
+    def skip(self, node):
+        """Mark node and everything in it read: a part reported as a whole."""
+        node.used = True
+        for c in (node.children or {}).values():
+            self.skip(c)
+
+    def leftovers(self, node, essential=True, reason=None):
+        """Every child not read: no PeriDeal equivalent known."""
+        if node is None or not node.is_list():
+            return
+        for c in node.children.values():
+            if not c.used:
+                c.used = True
+                self.cannot(c, reason or "a key the converter does not know (no PeriDeal equivalent)", essential)
+
+    # --- the sections
+
+    def run(self):
+        top = self.root
+        # Decks before Peridigm 1.0 wrapped the problem in 'Problem'.
+        problem = top.children.get("Problem")
+        if problem is not None and problem.is_list():
+            problem.used = True
+            for c in list(problem.children.values()):
+                if c.name in top.children:
+                    self.cannot(c, "given both in Problem and at the top level")
+                    continue
+                top.children[c.name] = c
+                c.parent = top
+        verbose = self.child(top, "Verbose")
+        for name in self.ESSENTIAL_SECTIONS:
+            if name not in top.children:
+                self.messages.append((0, len(self.messages),
+                                      "%s:%d: cannot convert '%s': the deck has no %s section"
+                                      % (self.deck, top.line, name, name), True))
+                self.essential_failures += 1
+        if "Material" in top.children:
+            self.cannot(self.child(top, "Material"),
+                        "the layout of decks before Peridigm 1.0 (one 'Material' list with its damage model "
+                        "inside): write 'Materials', 'Damage Models' and 'Blocks' as Peridigm 1.0 does")
+        solvers = [n for n in top.children if re.fullmatch(r"Solver\d*", n)]
+        if len(solvers) > 1:
+            for n in solvers:
+                self.cannot(top.children[n], "several solvers run one after the other: PeriDeal runs one "
+                            "time integrator per run (run two decks, the second from the first's state is not "
+                            "possible either: there is no restart)")
+                top.children[n].used = True
+
+        self.discretization(self.child(top, "Discretization"))
+        self.materials_section(self.child(top, "Materials"))
+        self.damage_section(self.child(top, "Damage Models"))
+        self.blocks_section(self.child(top, "Blocks"))
+        self.conditions_section(self.child(top, "Boundary Conditions"))
+        self.contact_section(self.child(top, "Contact"))
+        self.computes_section(self.child(top, "Compute Class Parameters"))
+        if len(solvers) == 1:
+            self.solver_section(self.child(top, solvers[0]))
+        contact = top.children.get("Contact")
+        solver_type = [i[2] for i in self.prm.sub("Solver").items if i[0] == "set" and i[1] == "Type"]
+        if contact is not None and solver_type and solver_type[0] != "Verlet":
+            self.cannot(contact, "PeriDeal's contact acts in explicit runs only (Solver/Type = Verlet), "
+                        "not with its %s solver" % solver_type[0])
+        outputs = [n for n in top.children if re.fullmatch(r"Output_?\d*", n)]
+        self.output_sections([self.child(top, n) for n in outputs])
+        self.emit_regions()
+        restart = self.child(top, "Restart")
+        if restart is not None:
+            self.cannot(restart, "PeriDeal writes no restart files", essential=False)
+        for c in top.children.values():
+            if not c.used:
+                c.used = True
+                self.cannot(c, "a section the converter does not know")
+        return verbose
+
+    # Discretization -------------------------------------------------------
+
+    def discretization(self, d):
+        if d is None:
+            return
+        out = self.prm.sub("Discretization")
+        self.from_comment(out, d)
+        dtype = self.text(d, "Type", required=True)
+        horizon = self.child(d, "Horizon")
+        if horizon is not None:
+            if horizon.is_list() or not is_number(horizon.value):
+                self.cannot(horizon, "a horizon that is not a number (a function of position): PeriDeal "
+                            "takes one horizon per block")
+                self.disc_horizon = None
+            else:
+                self.disc_horizon = (num(horizon.value), horizon)
+        else:
+            self.disc_horizon = None
+        filters = self.child(d, "Bond Filters")
+        self.peridigm_disc = dtype
+        if dtype == "PdQuickGrid":
+            norm = self.text(d, "NeighborhoodType")
+            node = d.children.get("NeighborhoodType") or d.children.get("Type")
+            if norm != "Spherical":
+                self.warn(node, "PdQuickGrid without NeighborhoodType = \"Spherical\" builds cube-shaped "
+                          "families (every cell within the horizon along each axis, corners included); "
+                          "PeriDeal's families are spheres of the horizon: fewer bonds, a different "
+                          "stiffness and critical stretch calibration",
+                          path=d.path() + "/NeighborhoodType")
+                out.comment("TRAP: the Peridigm deck has PdQuickGrid's cube-shaped families (no\n"
+                            "NeighborhoodType = Spherical); PeriDeal's families are spheres.")
+            box = self.child(d, "TensorProduct3DMeshGenerator")
+            cyl = self.child(d, "TensorProductCylinderMeshGenerator")
+            if box is not None and cyl is not None:
+                self.cannot(cyl, "two mesh generators in one discretization")
+            if box is not None:
+                self.box(box, out)
+            elif cyl is not None:
+                self.cylinder(cyl, out)
+            else:
+                self.cannot(d, "PdQuickGrid needs a TensorProduct3DMeshGenerator or "
+                            "TensorProductCylinderMeshGenerator list", path=d.path() + "/Type")
+            if filters is not None:
+                self.warn(filters, "Peridigm refuses bond filters on a PdQuickGrid discretization "
+                          "('Bond filters not supported for PdQuickGrid'); PeriDeal applies them")
+        elif dtype == "Exodus":
+            mesh = self.text(d, "Input Mesh File", required=True)
+            if self.args.mesh:
+                self.disc_type = "Gmsh"
+                out.set("Type", "Gmsh")
+                g = out.sub("Gmsh")
+                g.comment("Peridigm's Exodus mesh '%s' replaced by this Gmsh mesh (--mesh):\n"
+                          "Exodus block_N is the volume physical group N." % mesh)
+                g.set("Mesh file", self.args.mesh)
+                self.warn(d.children.get("Input Mesh File") or d,
+                          "the Exodus mesh '%s' is replaced by the Gmsh mesh '%s' (--mesh); Exodus block_N "
+                          "is taken as Gmsh volume physical group N, node sets as --node-set says"
+                          % (mesh, self.args.mesh), path=d.path() + "/Input Mesh File")
+            else:
+                self.cannot(d.children.get("Type"), "PeriDeal reads no Exodus mesh (its meshes are hexahedral "
+                            "Gmsh .msh files): convert '%s' to Gmsh (e.g. meshio, or mesh the geometry again "
+                            "with Recombine) and give it with --mesh, its node sets with --node-set" % mesh)
+        elif dtype == "Text File":
+            mesh = self.text(d, "Input Mesh File")
+            self.cannot(d.children.get("Type"), "PeriDeal has no point-cloud reader yet: it makes one "
+                        "point per cell of a mesh (Box, Cylinder shell, Gmsh), so the points of '%s' "
+                        "(x y z block volume per line) cannot be read; mesh the body instead" % mesh)
+        elif dtype is not None:
+            self.cannot(d.children.get("Type"), "the discretization type '%s' has no PeriDeal equivalent" % dtype)
+        if filters is not None:
+            self.bond_filters(filters, out)
+        omit = self.child(d, "Omit Bonds Between Blocks")
+        if omit is not None:
+            self.cannot(omit, "PeriDeal bonds every two blocks")
+        self.leftovers(d)
+
+    def box(self, g, out):
+        self.disc_type = "Box"
+        out.set("Type", "Box")
+        b = out.sub("Box")
+        b.comment("PdQuickGrid TensorProduct3DMeshGenerator: Number Points X/Y/Z cells of the\n"
+                  "box from the origin over the lengths, one point at each cell's centre, as in\n"
+                  "Peridigm.")
+        origin, length, n = [], [], []
+        for axis in "XYZ":
+            origin.append(self.number(g, "%s Origin" % axis, required=True))
+            length.append(self.number(g, "%s Length" % axis, required=True))
+            n.append(self.number(g, "Number Points %s" % axis, required=True, integer=True))
+        self.child(g, "Type")  # PdQuickGrid, repeated in the users' guide
+        if None not in origin + length + n:
+            b.set("Lower corner", ",".join(origin))
+            b.set("Upper corner", ",".join(fmt(float(o) + float(l)) for o, l in zip(origin, length)))
+            b.set("Subdivisions", ",".join(str(int(x)) for x in n))
+        self.leftovers(g)
+
+    def cylinder(self, g, out):
+        self.disc_type = "Cylinder shell"
+        out.set("Type", "Cylinder shell")
+        c = out.sub("Cylinder shell")
+        ri = self.number(g, "Inner Radius", required=True)
+        ro = self.number(g, "Outer Radius", required=True)
+        length = self.number(g, "Cylinder Length", required=True)
+        cx = self.number(g, "Ring Center x", required=True)
+        cy = self.number(g, "Ring Center y", required=True)
+        z0 = self.number(g, "Z Origin", required=True)
+        nr = self.number(g, "Number Points Radius", required=True, integer=True)
+        self.child(g, "Type")  # PdQuickGrid, repeated in the users' guide
+        if None in (ri, ro, length, cx, cy, z0, nr):
+            self.leftovers(g)
+            return
+        c.set("Inner radius", ri)
+        c.set("Outer radius", ro)
+        c.set("Length", length)
+        c.set("Center x", cx)
+        c.set("Center y", cy)
+        c.set("Z origin", z0)
+        c.set("Radial cells", str(int(nr)), "Peridigm's 'Number Points Radius'.")
+        # Peridigm (PdQuickGrid): cell size = thickness / rings, cells along
+        # the axis = (int)(length / cell size) + 1; the cells around: PeriDeal's
+        # default 0 follows Peridigm's rule.
+        dr = (float(ro) - float(ri)) / int(nr)
+        axial = int(float(length) / dr) + 1 if dr > 0 else 0
+        c.set("Circumferential cells", "0", "0: the mid-radius circumference over the radial spacing, rounded\n"
+              "down, as PdQuickGrid does.")
+        c.set("Axial cells", str(axial), "PdQuickGrid's count: (int)(length / radial spacing) + 1.")
+        self.leftovers(g)
+
+    def bond_filters(self, f, out):
+        bf = out.sub("Bond filters")
+        bf.comment("Peridigm's Rectangular_Plane: the rectangle spans Bottom_Length from the\n"
+                   "corner along Bottom_Unit_Vector and Side_Length along Bottom_Unit_Vector x\n"
+                   "Normal. PeriDeal's bond filters take the side along the same product, so the\n"
+                   "vectors are copied as they are (TRAP: a deck written for PeriDeal before\n"
+                   "December 2026, which took Normal x Bottom unit vector, had Normal negated).")
+        names = []
+        for c in f.children.values():
+            c.used = True
+            if self.bad_name(c):
+                continue
+            if not c.is_list():
+                self.cannot(c, "a bond filter is a list")
+                continue
+            ftype = self.text(c, "Type", required=True)
+            if ftype != "Rectangular_Plane":
+                if ftype is not None:
+                    self.cannot(c.children.get("Type"), "bond filter type '%s': PeriDeal has rectangular "
+                                "planes only" % ftype)
+                self.skip(c)
+                continue
+            vals = {}
+            for key in ("Normal", "Lower_Left_Corner", "Bottom_Unit_Vector"):
+                vals[key] = [self.number(c, "%s_%s" % (key, a), required=True) for a in "XYZ"]
+            for key in ("Bottom_Length", "Side_Length"):
+                vals[key] = self.number(c, key, required=True)
+            self.leftovers(c)
+            s = bf.sub(c.name)
+            self.from_comment(s, c)
+            s.set("Type", "Rectangular plane")
+            s.set("Normal", ",".join(v or "0" for v in vals["Normal"]))
+            s.set("Lower left corner", ",".join(v or "0" for v in vals["Lower_Left_Corner"]))
+            s.set("Bottom unit vector", ",".join(v or "0" for v in vals["Bottom_Unit_Vector"]))
+            s.set("Bottom length", vals["Bottom_Length"] or "0")
+            s.set("Side length", vals["Side_Length"] or "0")
+            names.append(c.name)
+        bf.items.insert(0, ["set", "Names", ", ".join(names)])
+
+    # Materials --------------------------------------------------------------
+
+    MODELS = {
+        "Elastic": "LPS",
+        "Elastic Bond Based": "PMB",
+        "Elastic Plastic": "Elastic plastic",
+        "Elastic Plastic Hardening": "Elastic plastic",
+        "Viscoelastic": "Viscoelastic",
+        "Elastic Correspondence": "Elastic correspondence",
+        "Elastic Plastic Correspondence": "Elastic plastic correspondence",
+        "Elastic Plastic Hardening Correspondence": "Elastic plastic correspondence",
+        "Isotropic Hardening Correspondence": "Elastic plastic correspondence",
+        "Linear LPS Partial Volume": "LPS",
+    }
+    MODULI = (("Bulk Modulus", "Bulk modulus"), ("Shear Modulus", "Shear modulus"),
+              ("Young's Modulus", "Young's modulus"), ("Poisson's Ratio", "Poisson's ratio"))
+
+    def materials_section(self, m):
+        if m is None:
+            return
+        out = self.prm.sub("Materials")
+        self.from_comment(out, m)
+        names = []
+        for c in m.children.values():
+            c.used = True
+            if self.bad_name(c):
+                continue
+            if not c.is_list():
+                self.cannot(c, "a material is a list of its properties")
+                continue
+            model = self.text(c, "Material Model", required=True)
+            if model is None:
+                self.skip(c)
+                continue
+            if model not in self.MODELS:
+                self.cannot(c.children["Material Model"], "the material model '%s' has no PeriDeal "
+                            "equivalent (PeriDeal has Peridigm's %s)"
+                            % (model, ", ".join("'%s'" % k for k in self.MODELS)))
+                self.skip(c)
+                continue
+            s = out.sub(c.name)
+            self.from_comment(s, c)
+            pmodel = self.MODELS[model]
+            s.set("Model", pmodel, "Peridigm's '%s'." % model)
+            self.materials[c.name] = pmodel
+            density = self.number(c, "Density", required=True)
+            if density is not None:
+                s.set("Density", density)
+            given = 0
+            for key, pkey in self.MODULI:
+                v = self.number(c, key)
+                if v is not None:
+                    s.set(pkey, v)
+                    given += 1
+            if given == 0:
+                self.cannot(c, "no elastic constant (Bulk Modulus, Shear Modulus, Young's Modulus, "
+                            "Poisson's Ratio)", path=c.path())
+            v = self.number(c, "Thermal Expansion Coefficient")
+            if v is not None:
+                s.set("Thermal expansion coefficient", v)
+            ad = self.child(c, "Apply Automatic Differentiation Jacobian")
+            if ad is not None:
+                s.comment("Peridigm's 'Apply Automatic Differentiation Jacobian' is not needed: PeriDeal's\n"
+                          "PMB and LPS tangents are analytic (Solver/Implicit/Tangent).")
+            scf = self.boolean(c, "Apply Shear Correction Factor")
+            if model == "Elastic":
+                if scf:
+                    self.cannot(c.children["Apply Shear Correction Factor"],
+                                "Peridigm's shear correction factor (a per-point scaling of the deviatoric "
+                                "stiffness near surfaces) is not PeriDeal's; 'Surface correction = Energy' "
+                                "is Le and Bobaru's energy method, a different correction")
+                else:
+                    s.comment("TRAP: Peridigm versions after 1.0 apply a shear correction factor to\n"
+                              "'Elastic' unless 'Apply Shear Correction Factor' is false; PeriDeal's LPS\n"
+                              "has none (Surface correction = None).")
+            if model in ("Elastic Plastic", "Elastic Plastic Hardening", "Elastic Plastic Correspondence",
+                         "Elastic Plastic Hardening Correspondence", "Isotropic Hardening Correspondence"):
+                y = self.number(c, "Yield Stress", required=True)
+                if y is not None:
+                    s.set("Yield stress", y)
+                dp = self.boolean(c, "Disable Plasticity")
+                if dp:
+                    self.cannot(c.children["Disable Plasticity"], "PeriDeal's plastic models cannot be made "
+                                "elastic; use Material Model Elastic")
+            if model in ("Elastic Plastic Hardening", "Elastic Plastic Hardening Correspondence",
+                         "Isotropic Hardening Correspondence"):
+                h = self.number(c, "Hardening Modulus", required=True)
+                if h is not None:
+                    s.set("Hardening modulus", h)
+                    if model == "Elastic Plastic Hardening" and float(h) != 0:
+                        self.warn(c.children["Hardening Modulus"],
+                                  "Peridigm hardens the yield function in force-state units, PeriDeal's "
+                                  "Hardening modulus is the J2 slope in stress units (doc/inelastic.md): "
+                                  "the same number hardens differently")
+            if model == "Viscoelastic":
+                li = self.number(c, "lambda_i", required=True)
+                tb = self.number(c, "tau b", required=True)
+                if li is not None:
+                    s.set("Viscous fraction", li, "Peridigm's 'lambda_i'.")
+                if tb is not None:
+                    s.set("Relaxation time", tb, "Peridigm's 'tau b'.")
+            if "Correspondence" in model:
+                hg = self.number(c, "Hourglass Coefficient", required=True)
+                if hg is not None:
+                    s.set("Stabilization", "Hourglass")
+                    s.set("Hourglass coefficient", hg)
+                if model == "Elastic Correspondence":
+                    s.set("Strain measure", "Green-Lagrange", "Peridigm's Elastic Correspondence: Green-Lagrange "
+                          "strain.")
+            if model == "Linear LPS Partial Volume":
+                self.warn(c.children["Material Model"], "PeriDeal's LPS is the ordinary (not linearized) "
+                          "model and its partial volumes come from the cells' geometry "
+                          "(Discretization/Partial volumes = true): small deformations only agree")
+                self.prm.sub("Discretization").set("Partial volumes", "true")
+            self.leftovers(c)
+            names.append(c.name)
+        out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+
+    # Damage models ----------------------------------------------------------
+
+    DAMAGE = {
+        "Critical Stretch": "Critical stretch",
+        "Interface Aware": "Interface aware",
+        "Time Dependent Critical Stretch": "Time dependent critical stretch",
+        "User Defined Time Dependent Critical Stretch": "Time dependent critical stretch",
+        "Von Mises Stress": "Von Mises stress",
+    }
+
+    def damage_section(self, m):
+        if m is None:
+            return
+        out = self.prm.sub("Damage models")
+        self.from_comment(out, m)
+        names = []
+        for c in m.children.values():
+            c.used = True
+            if self.bad_name(c):
+                continue
+            if not c.is_list():
+                self.cannot(c, "a damage model is a list of its properties")
+                continue
+            model = self.text(c, "Damage Model", required=True)
+            if model is None:
+                self.skip(c)
+                continue
+            if model not in self.DAMAGE:
+                self.cannot(c.children["Damage Model"], "the damage model '%s' has no PeriDeal equivalent "
+                            "(PeriDeal has Peridigm's %s)" % (model, ", ".join("'%s'" % k for k in self.DAMAGE)))
+                self.skip(c)
+                continue
+            s = out.sub(c.name)
+            self.from_comment(s, c)
+            s.set("Model", self.DAMAGE[model], "Peridigm's '%s'." % model)
+            self.damage_models[c.name] = self.DAMAGE[model]
+            if model in ("Critical Stretch", "Interface Aware"):
+                v = self.number(c, "Critical Stretch", required=True)
+                if v is not None:
+                    s.set("Critical stretch", v)
+                if model == "Interface Aware":
+                    s.comment("Interface critical stretch 0: s_c at the interface too, Peridigm's rule.")
+            elif model.endswith("Time Dependent Critical Stretch"):
+                key = "Time Dependent Critical Stretch"
+                expr_node = self.child(c, key) or self.child(c, "Critical Stretch")
+                if expr_node is None or expr_node.is_list():
+                    self.cannot(c, "'%s' is missing" % key, path=c.path() + "/" + key)
+                else:
+                    try:
+                        s.set("Critical stretch", translate_expression(expr_node.value, ("t",)),
+                              "Peridigm's function of t: %s" % expr_node.value.strip())
+                    except ExprError as e:
+                        self.cannot(expr_node, "the function '%s': %s" % (expr_node.value.strip(), e))
+            elif model == "Von Mises Stress":
+                for key, pkey in (("Critical Von Mises Stress", "Critical von Mises stress"),
+                                  ("Critical Damage", "Critical damage"), ("Threshold Damage", "Threshold damage")):
+                    v = self.number(c, key, required=(key == "Critical Von Mises Stress"))
+                    if v is not None:
+                        s.set(pkey, v)
+            v = self.number(c, "Critical Damage To Neglect Material Point")
+            if v is None:
+                v = self.number(c, "Critical Damage to Neglect Material Point")
+            if v is not None:
+                s.set("Critical damage to neglect material point", v)
+            tec = self.child(c, "Thermal Expansion Coefficient")
+            if tec is not None:
+                self.cannot(tec, "PeriDeal's stretch criteria compare the total stretch (no thermal part "
+                            "subtracted)")
+            self.leftovers(c)
+            names.append(c.name)
+        out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+
+    # Blocks -----------------------------------------------------------------
+
+    def blocks_section(self, b):
+        if b is None:
+            return
+        out = self.prm.sub("Blocks")
+        self.from_comment(out, b)
+        entries = []
+        for c in b.children.values():
+            c.used = True
+            if self.bad_name(c):
+                continue
+            if not c.is_list():
+                self.cannot(c, "a block is a list (Block Names, Material, ...)")
+                continue
+            names = self.text(c, "Block Names", required=True)
+            material = self.text(c, "Material", required=True)
+            damage = self.text(c, "Damage Model")
+            horizon = self.child(c, "Horizon")
+            h = None
+            if horizon is not None:
+                if horizon.is_list() or not is_number(horizon.value):
+                    self.cannot(horizon, "a horizon that is not a number (a function of position): PeriDeal "
+                                "takes one horizon per block")
+                else:
+                    h = (num(horizon.value), horizon)
+            deck_materials = self.root.children.get("Materials")
+            if material is not None and (deck_materials is None or material not in deck_materials.children):
+                self.cannot(c.children["Material"], "no material '%s' in Materials" % material)
+            deck_damage = self.root.children.get("Damage Models")
+            if damage is not None and (deck_damage is None or damage not in deck_damage.children):
+                self.cannot(c.children["Damage Model"], "no damage model '%s' in Damage Models" % damage)
+            self.leftovers(c)
+            entries.append((c, (names or "").split(), material, damage, h))
+        # PeriDeal block names: the discretization's block name when an entry
+        # has one, else the entry's name.
+        pnames = []
+        for c, dnames, material, damage, h in entries:
+            pname = dnames[0] if len(dnames) == 1 else c.name
+            pnames.append(pname)
+            for dn in dnames:
+                self.block_map[dn] = pname
+        # One horizon for all: Discretization/Horizon.
+        block_h = [e[4][0] if e[4] else None for e in entries]
+        disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
+        common = None
+        if disc_h is None and block_h and all(x is not None for x in block_h) and len(set(block_h)) == 1:
+            common = block_h[0]
+        if disc_h is not None or common is not None:
+            d = self.prm.sub("Discretization")
+            if disc_h is not None:
+                d.set("Horizon", disc_h)
+            else:
+                d.set("Horizon", common, "Peridigm gives the horizon per block (Blocks/*/Horizon); every block\n"
+                      "has %s." % common)
+        scene_blocks = len(entries)
+        for (c, dnames, material, damage, h), pname in zip(entries, pnames):
+            s = out.sub(pname)
+            self.from_comment(s, c)
+            if material is not None:
+                s.set("Material", material)
+            if damage is not None:
+                s.set("Damage model", damage)
+            if h is not None and common is None and (disc_h is None or h[0] != disc_h):
+                s.set("Horizon", h[0])
+            if h is None and disc_h is None:
+                self.cannot(c, "no Horizon for this block (and none in Discretization)", path=c.path() + "/Horizon")
+            if self.disc_type in ("Box", "Cylinder shell"):
+                if dnames != ["block_1"] or scene_blocks != 1:
+                    self.cannot(c.children.get("Block Names") or c,
+                                "PdQuickGrid makes one block, block_1, of every point: '%s'"
+                                % " ".join(dnames))
+            elif self.disc_type == "Gmsh":
+                ids = []
+                for dn in dnames:
+                    m = re.fullmatch(r"block_(\d+)", dn)
+                    if not m:
+                        self.cannot(c.children.get("Block Names"), "the Exodus block '%s' is not named block_N, "
+                                    "so its Gmsh physical group is unknown" % dn)
+                    else:
+                        ids.append(m.group(1))
+                        self.block_ids[dn] = m.group(1)
+                if ids:
+                    s.set("Material ids", ", ".join(ids), "Exodus %s: Gmsh volume physical group%s %s."
+                          % (" ".join(dnames), "s" if len(ids) > 1 else "", ", ".join(ids)))
+        out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(pnames)])
+        self.peridigm_blocks = entries
+
+    # Regions (node sets) -----------------------------------------------------
+
+    def region_for_node_set(self, name, node):
+        """The PeriDeal region name for a Peridigm node set, or None."""
+        if name == "All":
+            return "All"
+        if name in self.regions:
+            return name
+        if "," in name:
+            self.cannot(node, "a node set name with a comma cannot be a PeriDeal region name")
+            return None
+        spec = self.node_set_specs.get(name)
+        if spec is None:
+            if name in self.node_set_defs:
+                d = self.node_set_defs[name]
+                self.cannot(node, "the node set '%s' is given by node numbers (a list, or a file of them: '%s', "
+                            "line %d): PeriDeal's "
+                            "regions are geometric; give it with --node-set '%s=box:...' or "
+                            "'expression:...'" % (name, d.value.strip(), d.line, name))
+            elif getattr(self, "peridigm_disc", None) == "Exodus":
+                self.cannot(node, "the Exodus node set '%s' is not known to PeriDeal: give it with "
+                            "--node-set '%s=box:X0,Y0,Z0:X1,Y1,Z1' (or expression:..., group:N)" % (name, name))
+            elif getattr(self, "peridigm_disc", None) == "PdQuickGrid":
+                self.cannot(node, "no node set '%s': PdQuickGrid defines only 'All'; give it with "
+                            "--node-set '%s=box:...' or 'expression:...'" % (name, name))
+            else:
+                self.cannot(node, "the node set '%s' is not known to PeriDeal: give it with --node-set "
+                            "'%s=box:...' or 'expression:...'" % (name, name))
+            return None
+        kind, _, rest = spec.partition(":")
+        if kind == "box":
+            corners = rest.split(":")
+            if len(corners) != 2 or any(len(x.split(",")) != 3 or not all(is_number(v) for v in x.split(","))
+                                        for x in corners):
+                sys.exit("peridigm_to_prm.py: --node-set %s=%s: expected box:X0,Y0,Z0:X1,Y1,Z1" % (name, spec))
+            self.add_region(name, "Box", [("Lower corner", corners[0]), ("Upper corner", corners[1])])
+        elif kind == "expression":
+            self.add_region(name, "Expression", [("Expression", rest)])
+        elif kind == "group":
+            parts = rest.split(":")
+            if not parts[0].isdigit() or (len(parts) > 1 and parts[1] not in ("2", "3")):
+                sys.exit("peridigm_to_prm.py: --node-set %s=%s: expected group:N or group:N:DIM" % (name, spec))
+            self.add_region(name, "Physical group", [("Physical group", parts[0]),
+                                                     ("Physical group dimension", parts[1] if len(parts) > 1 else "3")])
+        else:
+            sys.exit("peridigm_to_prm.py: --node-set %s=%s: SPEC is box:..., expression:... or group:..."
+                     % (name, spec))
+        return name
+
+    def add_region(self, name, rtype, keys, comment=None):
+        if name not in self.regions:
+            self.regions[name] = (rtype, keys, comment)
+            self.region_order.append(name)
+
+    def emit_regions(self):
+        if not self.regions:
+            return
+        r = self.prm.sub("Discretization").sub("Regions")
+        r.comment("Peridigm's node sets (and blocks of compute classes) as regions.")
+        r.set("Names", ", ".join(self.region_order))
+        for name in self.region_order:
+            rtype, keys, comment = self.regions[name]
+            s = r.sub(name)
+            if comment:
+                s.comment(comment)
+            elif name in self.node_set_specs:
+                s.comment("--node-set %s=%s" % (name, self.node_set_specs[name]))
+            s.set("Type", rtype)
+            for k, v in keys:
+                s.set(k, v)
+
+    # Boundary conditions ----------------------------------------------------
+
+    BC_TYPES = {
+        "Initial Velocity": "Initial velocity",
+        "Initial Displacement": "Initial displacement",
+        "Prescribed Displacement": "Prescribed displacement",
+        "Prescribed Velocity": "Prescribed velocity",
+        "Body Force": "Body force",
+    }
+
+    def conditions_section(self, b):
+        if b is None:
+            return
+        out = self.prm.sub("Boundary conditions")
+        self.from_comment(out, b)
+        for c in b.children.values():
+            if not c.is_list():
+                c.used = True
+                self.node_set_defs[c.name] = c
+        names = []
+        uses_rnd = False
+        for c in b.children.values():
+            if not c.is_list():
+                continue
+            c.used = True
+            if self.bad_name(c):
+                continue
+            btype = self.text(c, "Type", required=True)
+            node_set = self.text(c, "Node Set", required=True)
+            coord = self.text(c, "Coordinate")
+            value_node = self.child(c, "Value")
+            if btype is None:
+                self.skip(c)
+                continue
+            if btype not in self.BC_TYPES:
+                self.cannot(c.children["Type"], "the condition type '%s' has no PeriDeal equivalent (PeriDeal "
+                            "has %s; temperature is one field, Temperature/Function)"
+                            % (btype, ", ".join("'%s'" % k for k in self.BC_TYPES)))
+                self.skip(c)
+                continue
+            if coord is None or coord.lower() not in ("x", "y", "z"):
+                self.cannot(c.children.get("Coordinate") or c, "Coordinate must be x, y or z, got '%s'" % coord,
+                            path=c.path() + "/Coordinate")
+                self.skip(c)
+                continue
+            region = self.region_for_node_set(node_set, c.children["Node Set"]) if node_set else None
+            expr = None
+            if value_node is None or value_node.is_list():
+                self.cannot(c, "'Value' is missing", path=c.path() + "/Value")
+            else:
+                try:
+                    expr = translate_expression(value_node.value)
+                except ExprError as e:
+                    self.cannot(value_node, "the function '%s': %s" % (value_node.value.strip(), e))
+            self.leftovers(c)
+            if region is None or expr is None:
+                continue
+            s = out.sub(c.name)
+            self.from_comment(s, c)
+            s.set("Type", self.BC_TYPES[btype])
+            s.set("Region", region)
+            s.set("Component", coord.lower(), "Peridigm's Coordinate.")
+            if expr.replace(" ", "") != value_node.value.strip().replace(" ", ""):
+                s.comment("Peridigm: %s" % value_node.value.strip())
+            s.set("Value", expr)
+            if "rnd(" in expr:
+                uses_rnd = True
+                s.set("Random seed", str(self.args.seed),
+                      "rnd(a): uniform in [-a, a], by seed, component and point: not Peridigm's\n"
+                      "random numbers (statistically alike, not point by point).")
+            names.append(c.name)
+        out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+        if not names:
+            self.prm.items = [i for i in self.prm.items if not (i[0] == "sub" and i[1] is out)]
+        return uses_rnd
+
+    # Contact ----------------------------------------------------------------
+
+    CONTACT = {"Short Range Force": "Short range force",
+               "Time Dependent Short Range Force": "Time dependent short range force"}
+
+    def contact_section(self, c):
+        if c is None:
+            return
+        out = self.prm.sub("Contact")
+        models = self.prm.sub("Contact models")
+        self.from_comment(out, c)
+        self.from_comment(models, c.children.get("Models") or c, "'Contact/Models'")
+        v = self.number(c, "Search Radius")
+        if v is not None:
+            out.set("Search radius", v)
+        v = self.number(c, "Search Frequency", integer=True)
+        if v is not None:
+            out.set("Search frequency", v)
+        ms = self.child(c, "Models")
+        mnames = []
+        if ms is not None:
+            for m in ms.children.values():
+                m.used = True
+                if self.bad_name(m):
+                    continue
+                if not m.is_list():
+                    self.cannot(m, "a contact model is a list")
+                    continue
+                model = self.text(m, "Contact Model", required=True)
+                if model not in self.CONTACT:
+                    if model is not None:
+                        self.cannot(m.children["Contact Model"], "the contact model '%s' has no PeriDeal "
+                                    "equivalent" % model)
+                    self.skip(m)
+                    continue
+                s = models.sub(m.name)
+                self.from_comment(s, m)
+                s.set("Model", self.CONTACT[model])
+                for key, pkey in (("Contact Radius", "Contact radius"), ("Friction Coefficient", "Friction coefficient"),
+                                  ("Horizon", "Horizon")):
+                    val = self.number(m, key, required=(key == "Contact Radius"))
+                    if val is not None:
+                        s.set(pkey, val)
+                k = self.child(m, "Spring Constant")
+                if k is None:
+                    self.cannot(m, "'Spring Constant' is missing", path=m.path() + "/Spring Constant")
+                elif model == "Short Range Force":
+                    if is_number(k.value):
+                        s.set("Spring constant", num(k.value))
+                    else:
+                        self.cannot(k, "not a number")
+                else:
+                    try:
+                        s.set("Spring constant", translate_expression(k.value, ("t",)))
+                    except ExprError as e:
+                        self.cannot(k, "the function '%s': %s" % (k.value.strip(), e))
+                self.leftovers(m)
+                mnames.append(m.name)
+        models.items.insert(len([i for i in models.items if i[0] == "comment"]), ["set", "Names", ", ".join(mnames)])
+        inter = self.child(c, "Interactions")
+        inames = []
+        if inter is not None:
+            isub = out.sub("Interactions")
+            for i in inter.children.values():
+                i.used = True
+                if self.bad_name(i):
+                    continue
+                if not i.is_list():
+                    self.cannot(i, "an interaction is a list")
+                    continue
+                model = self.text(i, "Contact Model", required=True)
+                if i.name in ("General Contact", "Self Contact"):
+                    if model is not None:
+                        out.set("General contact model" if i.name == "General Contact" else "Self contact model",
+                                model)
+                    self.leftovers(i)
+                    continue
+                first = self.text(i, "First Block", required=True)
+                second = self.text(i, "Second Block", required=True)
+                self.leftovers(i)
+                pf, ps = self.block_map.get(first), self.block_map.get(second)
+                for dn, pn in ((first, pf), (second, ps)):
+                    if dn is not None and pn is None:
+                        self.cannot(i, "no block '%s' in Blocks" % dn, path=i.path())
+                if None in (pf, ps, model):
+                    continue
+                s = isub.sub(i.name)
+                self.from_comment(s, i)
+                s.set("First block", pf)
+                s.set("Second block", ps)
+                s.set("Contact model", model)
+                inames.append(i.name)
+            isub.items.insert(0, ["set", "Names", ", ".join(inames)])
+        self.leftovers(c)
+
+    # Compute classes --------------------------------------------------------
+
+    COMPUTE_VARIABLES = {
+        "Force": ("Force x", "Force y", "Force z"),
+        "Displacement": ("Displacement x", "Displacement y", "Displacement z"),
+        "Velocity": ("Velocity x", "Velocity y", "Velocity z"),
+        "Model_Coordinates": ("Position x", "Position y", "Position z"),
+        "Damage": ("Damage",),
+        "Kinetic_Energy": ("Kinetic energy",),
+    }
+    OPERATIONS = {"Sum": "Sum", "Minimum": "Minimum", "Maximum": "Maximum", "Min": "Minimum", "Max": "Maximum"}
+
+    def computes_section(self, cc):
+        if cc is None:
+            return
+        out = self.prm.sub("Computes")
+        self.from_comment(out, cc)
+        names = []
+        for c in cc.children.values():
+            c.used = True
+            if self.bad_name(c, essential=False):
+                continue
+            if not c.is_list():
+                self.cannot(c, "a compute class is a list", essential=False)
+                continue
+            cls = self.text(c, "Compute Class", required=True, essential=False)
+            label = self.text(c, "Output Label", required=True, essential=False)
+            if label:
+                self.labels.add(label)
+            self.child(c, "Verbose")
+            if cls == "Nearest_Point_Data":
+                xyz = [self.number(c, a, required=True, essential=False) for a in "XYZ"]
+                var = self.text(c, "Variable", required=True, essential=False)
+                self.leftovers(c, essential=False)
+                if var is not None and var not in self.COMPUTE_VARIABLES:
+                    self.cannot(c.children["Variable"], "the variable '%s' is not a PeriDeal compute variable"
+                                % var, essential=False)
+                    continue
+                if None in xyz or var is None or label is None:
+                    continue
+                pvars = self.COMPUTE_VARIABLES[var]
+                for i, pv in enumerate(pvars):
+                    name = label if len(pvars) == 1 else "%s_%s" % (label, "xyz"[i])
+                    s = out.sub(name)
+                    if i == 0:
+                        self.from_comment(s, c)
+                        s.comment("Peridigm's Nearest_Point_Data: the value at the point nearest to X, Y, Z.")
+                    s.set("Region", "All")
+                    s.set("Variable", pv)
+                    s.set("Operation", "Nearest point")
+                    s.set("Location", ",".join(xyz))
+                    names.append(name)
+                continue
+            if cls not in ("Block_Data", "Node_Set_Data"):
+                if cls is not None:
+                    self.cannot(c.children["Compute Class"], "the compute class '%s' has no PeriDeal compute"
+                                % cls, essential=False)
+                self.skip(c)
+                continue
+            op = self.text(c, "Calculation Type", required=True, essential=False)
+            var = self.text(c, "Variable", required=True, essential=False)
+            region = None
+            if cls == "Block_Data":
+                block = self.text(c, "Block", required=True, essential=False)
+                if block is not None:
+                    region = self.region_for_block(block, c.children["Block"])
+            else:
+                ns = self.text(c, "Node Set", required=True, essential=False)
+                if ns is not None:
+                    region = self.region_for_node_set(ns, c.children["Node Set"])
+            self.leftovers(c, essential=False)
+            if op not in self.OPERATIONS:
+                if op is not None:
+                    self.cannot(c.children["Calculation Type"], "Calculation Type '%s': PeriDeal has Sum, "
+                                "Minimum, Maximum (and Mean)" % op, essential=False)
+                continue
+            if var not in self.COMPUTE_VARIABLES:
+                if var is not None:
+                    self.cannot(c.children["Variable"], "the variable '%s' is not a PeriDeal compute variable"
+                                % var, essential=False)
+                continue
+            if region is None or label is None:
+                continue
+            pvars = self.COMPUTE_VARIABLES[var]
+            for i, pv in enumerate(pvars):
+                name = label if len(pvars) == 1 else "%s_%s" % (label, "xyz"[i])
+                s = out.sub(name)
+                if i == 0:
+                    self.from_comment(s, c)
+                s.set("Region", region)
+                s.set("Variable", pv)
+                s.set("Operation", self.OPERATIONS[op])
+                names.append(name)
+        out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+        if not names:
+            self.prm.items = [i for i in self.prm.items if not (i[0] == "sub" and i[1] is out)]
+
+    def region_for_block(self, block, node):
+        entries = getattr(self, "peridigm_blocks", [])
+        if self.disc_type in ("Box", "Cylinder shell") and block == "block_1":
+            return "All"
+        if block in self.block_ids:
+            name = block
+            self.add_region(name, "Physical group", [("Physical group", self.block_ids[block]),
+                                                     ("Physical group dimension", "3")],
+                            "Exodus %s: the cells of Gmsh volume physical group %s." % (block, self.block_ids[block]))
+            return name
+        if len(entries) == 1 and block in entries[0][1] and len(entries[0][1]) == 1:
+            return "All"
+        self.cannot(node, "no block '%s' PeriDeal can make a region of" % block, essential=False)
+        return None
+
+    # Solver -----------------------------------------------------------------
+
+    def solver_section(self, s):
+        out = self.prm.sub("Solver")
+        self.from_comment(out, s)
+        self.child(s, "Verbose")
+        t0 = self.number(s, "Initial Time")
+        t1 = self.number(s, "Final Time")
+        kinds = [k for k in ("Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit") if k in s.children]
+        if len(kinds) != 1:
+            self.cannot(s, "one of Verlet, QuasiStatic, NOXQuasiStatic, Implicit is needed, found %s"
+                        % (", ".join(kinds) or "none"), path=s.path())
+            self.leftovers(s)
+            return
+        kind = kinds[0]
+        k = self.child(s, kind)
+        if kind == "Verlet":
+            out.set("Type", "Verlet", "Peridigm's Verlet: explicit velocity Verlet.")
+            if t0 is not None:
+                out.set("Initial time", t0)
+            if t1 is not None:
+                out.set("Final time", t1)
+            else:
+                self.cannot(s, "'Final Time' is missing", path=s.path() + "/Final Time")
+            v = out.sub("Verlet")
+            dt = self.number(k, "Fixed dt")
+            sf = self.number(k, "Safety Factor")
+            if dt is not None:
+                v.set("Fixed dt", dt)
+            if sf is not None:
+                v.set("Safety factor", sf)
+                if dt is None:
+                    v.comment("TRAP: the stable time step is estimated by each code its own way:\n"
+                              "the same Safety factor may give a different step (and step count).")
+            if dt is None and sf is None:
+                self.warn(k, "neither Fixed dt nor Safety Factor: PeriDeal's default Safety factor 0.8 applies")
+        elif kind in ("QuasiStatic", "NOXQuasiStatic"):
+            out.set("Type", "QuasiStatic", "Peridigm's %s: Newton's method per load step." % kind)
+            if t0 is not None:
+                out.set("Initial time", t0)
+            if t1 is not None:
+                out.set("Final time", t1)
+            n = self.number(k, "Number of Load Steps", required=True, integer=True)
+            if n is not None:
+                out.set("Number of steps", n)
+            imp = out.sub("Implicit")
+            v = self.number(k, "Absolute Tolerance")
+            if v is not None:
+                imp.set("Absolute tolerance", v)
+            v = self.number(k, "Relative Tolerance")
+            if v is not None:
+                imp.set("Tolerance", v)
+            for key in ("Maximum Solver Iterations", "Max Solver Iterations"):
+                v = self.number(k, key, integer=True)
+                if v is not None:
+                    imp.set("Maximum Newton iterations", v)
+            ls = self.boolean(k, "Perform Line Search")
+            if ls is not None:
+                imp.set("Line search", "true" if ls else "false")
+            jac = self.text(k, "Jacobian Operator")
+            if jac is not None:
+                imp.set("Jacobian", "Matrix free" if jac.lower().startswith("matrix") else "Assembled",
+                        "Peridigm's Jacobian Operator '%s'." % jac)
+            self.child(k, "Verbose")
+            self.leftovers(k, essential=False, reason="a solver setting PeriDeal's Newton solver does not have "
+                           "(doc/implicit.md); PeriDeal's default applies")
+        else:  # Implicit: Newmark
+            out.set("Type", "Newmark", "Peridigm's Implicit: Newmark-beta.")
+            dt = self.number(k, "Fixed dt", required=True)
+            if t0 is not None:
+                out.set("Initial time", t0)
+            if t1 is not None:
+                out.set("Final time", t1)
+            if dt is not None and t1 is not None:
+                steps = max(1, int(round((float(t1) - float(t0 or 0)) / float(dt))))
+                out.set("Number of steps", str(steps), "(Final Time - Initial Time) / Fixed dt.")
+            imp = out.sub("Implicit")
+            for key, pkey in (("Beta", "Newmark beta"), ("Gamma", "Newmark gamma"),
+                              ("Absolute Tolerance", "Absolute tolerance"), ("Relative Tolerance", "Tolerance")):
+                v = self.number(k, key)
+                if v is not None:
+                    imp.set(pkey, v)
+            v = self.number(k, "Maximum Solver Iterations", integer=True)
+            if v is not None:
+                imp.set("Maximum Newton iterations", v)
+            self.child(k, "Verbose")
+            self.leftovers(k, essential=False, reason="a solver setting PeriDeal's Newton solver does not have "
+                           "(doc/implicit.md); PeriDeal's default applies")
+        self.leftovers(k)
+        self.leftovers(s)
+
+    # Output -----------------------------------------------------------------
+
+    FIELDS = {
+        "Displacement": "Displacement", "Velocity": "Velocity", "Acceleration": "Acceleration",
+        "Force_Density": "Force density", "Damage": "Damage", "Dilatation": "Dilatation",
+        "Weighted_Volume": "Weighted volume", "Proc_Num": "Rank", "Number_Of_Neighbors": "Number of neighbors",
+        "Deformation_Gradient": "Deformation gradient", "Cauchy_Stress": "Cauchy stress",
+        "Von_Mises_Stress": "Von Mises stress", "Equivalent_Plastic_Strain": "Equivalent plastic strain",
+        "Temperature": "Temperature", "Block_Id": "Block",
+    }
+    GLOBALS = {
+        "Global_Kinetic_Energy": "the globals CSV's kinetic_energy",
+        "Global_Strain_Energy": "the globals CSV's strain_energy",
+        "Kinetic_Energy": None, "Strain_Energy": None,
+        "Global_Linear_Momentum": ("Momentum", "Global_Linear_Momentum"),
+        "Global_Angular_Momentum": ("Angular momentum", "Global_Angular_Momentum"),
+    }
+
+    def output_sections(self, sections):
+        if not sections:
+            return
+        out = self.prm.sub("Output")
+        field_done = False
+        globals_frequency = None
+        extra_computes = []
+        for o in sections:
+            self.from_comment(out, o)
+            ftype = self.text(o, "Output File Type", essential=False)
+            if ftype is not None and ftype != "VTU":
+                out.comment("Peridigm's %s becomes VTU files (.pvd, .pvtu, .vtu) for ParaView." % ftype)
+            self.child(o, "Output Format")
+            self.child(o, "Parallel Write")
+            base = self.text(o, "Output Filename", essential=False)
+            freq = self.number(o, "Output Frequency", integer=True, essential=False)
+            for key in ("Initial Output Step", "Final Output Step"):
+                c = self.child(o, key)
+                if c is not None:
+                    self.cannot(c, "PeriDeal writes every Frequency steps from the first to the last",
+                                essential=False)
+            variables = self.child(o, "Output Variables")
+            if variables is None:
+                variables = self.child(o, "Material Output Fields")  # pre-1.0 decks
+            fields, wanted_globals = [], []
+            if variables is not None:
+                for v in variables.children.values():
+                    v.used = True
+                    if v.is_list():
+                        self.cannot(v, "a list where an output variable was expected", essential=False)
+                        continue
+                    on = v.value.strip().lower() in ("true", "1", "yes")
+                    if not on:
+                        continue
+                    if v.name in self.FIELDS:
+                        if self.FIELDS[v.name] not in fields:
+                            fields.append(self.FIELDS[v.name])
+                    elif v.name in self.GLOBALS:
+                        wanted_globals.append(v)
+                    elif v.name in self.labels:
+                        pass  # a compute class's column of the globals CSV
+                    else:
+                        self.cannot(v, "PeriDeal has no output field '%s'" % v.name, essential=False)
+            for g in wanted_globals:
+                what = self.GLOBALS[g.name]
+                if what is None:
+                    self.cannot(g, "per-point energies are not written; the globals CSV has the totals",
+                                essential=False)
+                elif isinstance(what, tuple):
+                    extra_computes.append((what, g))
+            self.leftovers(o, essential=False, reason="an output setting PeriDeal does not have")
+            if fields or not wanted_globals:
+                if field_done:
+                    self.cannot(o, "PeriDeal writes one set of field files per run", essential=False)
+                    continue
+                field_done = True
+                if base:
+                    out.set("Base name", base)
+                if freq is not None:
+                    out.set("Frequency", freq)
+                out.set("Variables", ", ".join(fields))
+            else:
+                # An output of global values only: the globals CSV's rows.
+                if base and not field_done:
+                    out.set("Base name", base)
+                if freq is not None:
+                    globals_frequency = freq
+        if globals_frequency is not None:
+            out.set("Globals frequency", globals_frequency,
+                    "The globals CSV every this many steps (Peridigm's output of global variables).")
+        out.set("Write globals", "true",
+                "step, time, kinetic and strain energy, ... and one column per compute, every\n"
+                "output step (Peridigm's Global_* variables and compute classes).")
+        if extra_computes:
+            comp = self.prm.sub("Computes")
+            names = []
+            for (variable, label), node in extra_computes:
+                for a in "xyz":
+                    name = "%s_%s" % (label, a)
+                    s = comp.sub(name)
+                    s.set("Region", "All")
+                    s.set("Variable", "%s %s" % (variable, a))
+                    s.set("Operation", "Sum")
+                    names.append(name)
+            existing = [i for i in comp.items if i[0] == "set" and i[1] == "Names"]
+            if existing:
+                existing[0][2] = ", ".join([n for n in existing[0][2].split(", ") if n] + names)
+            else:
+                comp.items.insert(0, ["set", "Names", ", ".join(names)])
+
+
+# ----------------------------------------------------------------------- main
+
+
+SECTION_ORDER = ("Discretization", "Materials", "Damage models", "Blocks", "Boundary conditions",
+                 "Contact models", "Contact", "Computes", "Solver", "Output")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(
+        prog="peridigm_to_prm.py",
+        description="Convert a Peridigm input deck (YAML or XML) into a PeriDeal parameter file.",
+        epilog="Unconvertible keys are listed on standard error as DECK:LINE: cannot convert "
+               "'Section/Key': reason. Exit status 1 if an essential one could not be converted. "
+               "See doc/peridigm.md.")
+    ap.add_argument("deck")
+    ap.add_argument("-o", "--output", help="the parameter file to write (default: standard output)")
+    ap.add_argument("--partial", action="store_true",
+                    help="write what could be converted even if something essential could not")
+    ap.add_argument("--mesh", help="a hexahedral Gmsh mesh standing for the deck's Exodus mesh")
+    ap.add_argument("--node-set", action="append", metavar="NAME=SPEC",
+                    help="a node set as a region: box:X0,Y0,Z0:X1,Y1,Z1, expression:EXPR or group:N[:DIM]")
+    ap.add_argument("--seed", type=int, default=1, help="Random seed of conditions that use rnd() (default 1)")
+    args = ap.parse_args(argv)
+
+    try:
+        root = read_deck(args.deck)
+    except OSError as e:
+        print("Error: cannot read %s: %s" % (args.deck, e.strerror), file=sys.stderr)
+        return 1
+    except DeckError as e:
+        print("%s:%d: syntax error: %s" % (args.deck, e.line, e.message), file=sys.stderr)
+        print("Error: %s could not be read; nothing written" % args.deck, file=sys.stderr)
+        return 1
+
+    conv = Converter(args.deck, root, args)
+    conv.run()
+    for _, _, text, _ in sorted(conv.messages):
+        print(text, file=sys.stderr)
+
+    # The parameter file.
+    fmt_lines = [
+        "# PeriDeal parameter file converted from the Peridigm deck %s" % args.deck,
+        "# by apps/peridigm_to_prm.py (doc/peridigm.md).",
+        "#",
+        "# Units: neither Peridigm nor PeriDeal has any; the numbers are copied as they",
+        "# are, so the deck's consistent units (SI, CGS, ...) carry over unchanged.",
+    ]
+    if conv.essential_failures:
+        fmt_lines.append("# INCOMPLETE (--partial): %d essential key(s) could not be converted; see"
+                         % conv.essential_failures)
+        fmt_lines.append("# the converter's messages.")
+    body = []
+    subs = {item[1].name: item[1] for item in conv.prm.items if item[0] == "sub"}
+    for name in SECTION_ORDER + tuple(n for n in subs if n not in SECTION_ORDER):
+        s = subs.get(name)
+        if s is None:
+            continue
+        body.append("")
+        body.append("subsection %s" % name)
+        body.extend(s.render(1))
+        body.append("end")
+    text = "\n".join(fmt_lines + body) + "\n"
+
+    if conv.essential_failures and not args.partial:
+        print("Error: %d essential key(s) of %s could not be converted; nothing written "
+              "(--partial writes the rest)" % (conv.essential_failures, args.deck), file=sys.stderr)
+        return 1
+    if args.output:
+        with open(args.output, "w", encoding="utf-8") as f:
+            f.write(text)
+    else:
+        sys.stdout.write(text)
+    if conv.essential_failures:
+        print("Error: %d essential key(s) of %s could not be converted; the rest was written (--partial)"
+              % (conv.essential_failures, args.deck), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
