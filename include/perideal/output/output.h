@@ -107,6 +107,7 @@ namespace perideal
     std::set<std::string> variables;
     bool                  globals = true;
     bool                  fragments = false; // <base name>.fragments.csv at field steps
+    bool                  double_precision = false; // Field precision = double: Float64 arrays
 
   private:
     std::string                                 parameters;
