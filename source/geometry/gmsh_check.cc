@@ -10,6 +10,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/utilities.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -223,7 +224,7 @@ namespace perideal
   } // namespace
 
   void
-  check_gmsh_cells(const std::string &file, const double scale)
+  check_gmsh_cells(const std::string &file, const double scale, const bool extruded)
   {
     GmshCells mesh;
     if (!read_gmsh_cells(file, mesh))
@@ -247,6 +248,28 @@ namespace perideal
       "(every cell split into hexahedra) or build a structured mesh (Transfinite Volume and "
       "Recombine, or Extrude with Layers and Recombine); 'Mesh.RecombineAll = 1; "
       "Mesh.Recombine3DAll = 1;' may leave tetrahedra";
+    if (extruded)
+      {
+        const unsigned long curved_quads = quads - std::count_if(mesh.elements.begin(), mesh.elements.end(),
+                                                                 [](const auto &e) { return e.type == 3; });
+        AssertThrow(tets + prisms + pyramids + hexes + curved == 0,
+                    ExcMessage(where + " holds volume cells: Discretization/Gmsh/Extrusion thickness extrudes "
+                               "a 2D mesh (gmsh -2); set it to 0 for a 3D mesh"));
+        AssertThrow(quads > 0 && triangles == 0 && curved_quads == 0,
+                    ExcMessage(where + " holds " + std::to_string(triangles) + " triangles, " +
+                               std::to_string(quads - curved_quads) + " first-order and " +
+                               std::to_string(curved_quads) + " second-order quadrilaterals: only first-order "
+                               "quadrilaterals extrude into hexahedra; recombine the surface in Gmsh ('Recombine "
+                               "Surface{...};' or 'Mesh.RecombineAll = 1;', with 'Mesh.SubdivisionAlgorithm = 1;' "
+                               "for no triangle left)"));
+        for (const auto &[tag, p] : mesh.nodes)
+          AssertThrow(p[2] == 0 && std::isfinite(scale * p.norm()),
+                      ExcMessage(where + ": node " + std::to_string(tag) + " at " + point_string(p) +
+                                 (p[2] != 0 ? " is not in the plane z = 0, which Extrusion thickness extrudes "
+                                              "along z: mesh the section there" :
+                                              " times Discretization/Gmsh/Scale is not a finite point")));
+        return; // deal.II's reader checks the quadrilaterals
+      }
     AssertThrow(tets + prisms + pyramids + hexes + curved > 0,
                 ExcMessage(where + " holds no volume cells (" + std::to_string(triangles) +
                            " triangles, " + std::to_string(quads) +

@@ -12,6 +12,9 @@ namespace perideal
   /// all-hexahedral mesh of any geometry with Mesh.SubdivisionAlgorithm = 2),
   /// as are cells smaller than round-off at @p scale and inverted or tangled
   /// ones. Does nothing for a file it cannot parse: deal.II's reader says why.
+  /// With @p extruded (Discretization/Gmsh/Extrusion thickness), the file
+  /// must instead be a 2D mesh of first-order quadrilaterals in the plane
+  /// z = 0, which become the hexahedra of the extrusion.
   void
-  check_gmsh_cells(const std::string &file, const double scale);
+  check_gmsh_cells(const std::string &file, const double scale, const bool extruded = false);
 } // namespace perideal
