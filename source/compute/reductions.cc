@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace perideal
@@ -74,7 +73,7 @@ namespace perideal
       static void
       declare_parameters(ParameterHandler &prm)
       {
-        prm.declare_entry("Location", "", Patterns::Anything(),
+        prm.declare_entry("Location", "", Patterns::List(Patterns::Double(), 0, 3),
                           "Operation = Nearest point: the place x, y, z (reference configuration) whose nearest "
                           "point of the region gives the value, e.g. the end of a strain gauge.");
       }
@@ -82,20 +81,13 @@ namespace perideal
       void
       parse_parameters(ParameterHandler &prm, const std::string &path) override
       {
+        // The pattern has checked the numbers; empty and short lists pass it.
         const std::string text = prm.get("Location");
         AssertThrow(!text.empty(), ExcMessage(path + "/Location: Operation = Nearest point needs the location "
                                                      "x, y, z whose nearest point gives the value"));
-        const std::vector<std::string> parts = Utilities::split_string_list(text, ',');
-        AssertThrow(parts.size() == 3,
+        AssertThrow(Utilities::split_string_list(text, ',').size() == 3,
                     ExcMessage(path + "/Location: expected three numbers x, y, z, got '" + text + "'"));
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            char        *end   = nullptr;
-            const double value = std::strtod(parts[d].c_str(), &end);
-            AssertThrow(!parts[d].empty() && *end == '\0' && std::isfinite(value),
-                        ExcMessage(path + "/Location: '" + parts[d] + "' is not a number"));
-            location[d] = value;
-          }
+        location = get_point(prm, "Location");
       }
 
       bool

@@ -37,14 +37,8 @@ namespace
   const unsigned int n       = 8;
   const double       horizon = 3.015 / n;
 
-  struct Variant
+  struct Variant : EnergyVariant
   {
-    std::string                             name;
-    MaterialSpec                            spec;
-    bool                                    partial    = false;
-    bool                                    periodic   = false;
-    bool                                    heated     = false;
-    SecondBlock                             second     = {};
     bool                                    continuous = false;
     std::function<double(const Point<3> &)> weight     = {};
     bool                                    own        = true; // the material overrides released_energy()
@@ -63,35 +57,42 @@ main(int argc, char *argv[])
                             {"Shear modulus", "0.35"},
                             {"Thermal expansion coefficient", "0.01"}}};
     std::vector<Variant> variants;
+    const auto           add = [&variants](EnergyVariant base) -> Variant & {
+      variants.push_back(Variant{std::move(base)});
+      return variants.back();
+    };
     for (const EnergyVariant &v : energy_variants(n))
-      variants.push_back({v.name, v.spec, v.partial, v.periodic, v.heated, v.second});
-    variants.push_back({"PMB, continuous damage", pmb, false, false, false, {}, true});
-    variants.push_back({"LPS, continuous damage, temperature", lps, false, false, true, {}, true});
+      add(v);
+    add({"PMB, continuous damage", pmb}).continuous                                  = true;
+    add({"LPS, continuous damage, temperature", lps, false, false, true}).continuous = true;
     const auto weight = [](const Point<3> &x) { return 0.25 + 0.75 * x[0]; };
-    variants.push_back({"PMB, energy weight", pmb, false, false, false, {}, false, weight});
-    variants.push_back({"LPS, energy weight", lps, false, false, false, {}, false, weight});
+    add({"PMB, energy weight", pmb}).weight = weight;
+    add({"LPS, energy weight", lps}).weight = weight;
     const std::map<std::string, std::string> moduli = {{"Density", "1"}, {"Bulk modulus", "1"}, {"Shear modulus", "0.35"}};
-    variants.push_back({"Elastic plastic", {"Elastic plastic", moduli}});
-    variants.back().spec.keys["Yield stress"] = "1e-3";
-    variants.push_back({"Elastic plastic, H = G, partial volumes, temperature, from a plastic state",
+    add({"Elastic plastic", {"Elastic plastic", moduli}}).spec.keys["Yield stress"] = "1e-3";
+    {
+      Variant &v = add({"Elastic plastic, H = G, partial volumes, temperature, from a plastic state",
                         {"Elastic plastic", moduli}, true, false, true});
-    variants.back().spec.keys["Yield stress"]      = "1e-3";
-    variants.back().spec.keys["Hardening modulus"] = "0.35";
-    variants.back().spec.keys["Thermal expansion coefficient"] = "0.01";
-    variants.back().history                        = true;
-    variants.push_back({"Elastic plastic, periodic", {"Elastic plastic", moduli}, false, true});
-    variants.back().spec.keys["Yield stress"] = "1e-3";
-    variants.push_back({"Viscoelastic", {"Viscoelastic", moduli}});
-    variants.back().spec.keys["Relaxation time"]  = "1";
-    variants.back().spec.keys["Viscous fraction"] = "0.6";
-    variants.push_back({"Viscoelastic, partial volumes, temperature, from a relaxing state",
+      v.spec.keys["Yield stress"]                  = "1e-3";
+      v.spec.keys["Hardening modulus"]             = "0.35";
+      v.spec.keys["Thermal expansion coefficient"] = "0.01";
+      v.history                                    = true;
+    }
+    add({"Elastic plastic, periodic", {"Elastic plastic", moduli}, false, true}).spec.keys["Yield stress"] = "1e-3";
+    {
+      Variant &v                      = add({"Viscoelastic", {"Viscoelastic", moduli}});
+      v.spec.keys["Relaxation time"]  = "1";
+      v.spec.keys["Viscous fraction"] = "0.6";
+    }
+    {
+      Variant &v = add({"Viscoelastic, partial volumes, temperature, from a relaxing state",
                         {"Viscoelastic", moduli}, true, false, true});
-    variants.back().spec.keys["Relaxation time"]               = "1";
-    variants.back().spec.keys["Viscous fraction"]              = "0.6";
-    variants.back().spec.keys["Thermal expansion coefficient"] = "0.01";
-    variants.back().history                                    = true;
-    variants.push_back({"Elastic correspondence (base class)", {"Elastic correspondence", moduli}});
-    variants.back().own = false;
+      v.spec.keys["Relaxation time"]               = "1";
+      v.spec.keys["Viscous fraction"]              = "0.6";
+      v.spec.keys["Thermal expansion coefficient"] = "0.01";
+      v.history                                    = true;
+    }
+    add({"Elastic correspondence (base class)", {"Elastic correspondence", moduli}}).own = false;
 
     for (const Variant &v : variants)
       {
