@@ -23,7 +23,10 @@ namespace
     "  --print-parameters           every parameter with its default and documentation\n"
     "  --print-parameters-markdown  the same as the Markdown page doc/parameters.md\n"
     "  --dry-run params.prm         set up, print points, bonds, memory estimate and the\n"
-    "                               stable time step, and exit without time stepping\n";
+    "                               stable time step, and exit without time stepping\n"
+    "  --restart DIR params.prm     continue the run of params.prm from the checkpoint in DIR\n"
+    "                               (Output/Checkpoint; same parameters outside Output, same\n"
+    "                               number of ranks)\n";
 
   // Every rank that catches an error comes here. Checks of user input are
   // collective, so normally all ranks arrive and rank 0 alone reports. An
@@ -78,9 +81,10 @@ main(int argc, char *argv[])
 
   std::vector<std::string> args(argv + 1, argv + argc);
   bool                     dry_run = false;
-  std::string              file;
-  for (const auto &a : args)
+  std::string              file, restart;
+  for (std::size_t i = 0; i < args.size(); ++i)
     {
+      const std::string &a = args[i];
       if (a == "--help" || a == "-h")
         {
           if (root)
@@ -95,6 +99,16 @@ main(int argc, char *argv[])
         }
       if (a == "--dry-run")
         dry_run = true;
+      else if (a == "--restart" || a.rfind("--restart=", 0) == 0)
+        {
+          restart = a == "--restart" ? (i + 1 < args.size() ? args[++i] : "") : a.substr(10);
+          if (restart.empty())
+            {
+              if (root)
+                std::cerr << "Error: --restart needs the checkpoint's directory\n" << usage;
+              return 2;
+            }
+        }
       else if (!a.empty() && a[0] == '-')
         {
           if (root)
@@ -110,6 +124,12 @@ main(int argc, char *argv[])
           return 2;
         }
     }
+  if (dry_run && !restart.empty())
+    {
+      if (root)
+        std::cerr << "Error: --dry-run and --restart exclude each other\n";
+      return 2;
+    }
   if (file.empty())
     {
       if (root)
@@ -123,7 +143,7 @@ main(int argc, char *argv[])
       if (dry_run)
         simulation.dry_run();
       else
-        simulation.run();
+        simulation.run(restart);
     }
   catch (const perideal::Interrupted &e)
     {

@@ -638,6 +638,18 @@ class Converter:
             return True
         return False
 
+    def list_entries(self, section, what, essential=True):
+        """The named lists of section, each marked read; entries with a bad name or
+        that are not lists are reported ('what' says what an entry should be)."""
+        for c in section.children.values():
+            c.used = True
+            if self.bad_name(c, essential):
+                continue
+            if not c.is_list():
+                self.cannot(c, what, essential)
+                continue
+            yield c
+
     def number(self, node, key, required=False, essential=True, integer=False):
         c = self.child(node, key)
         if c is None:
@@ -693,7 +705,9 @@ class Converter:
                 c.parent = top
         verbose = self.child(top, "Verbose")
         for name in self.ESSENTIAL_SECTIONS:
-            if name not in top.children:
+            # Solver1, Solver2, ... stand for Solver.
+            if name not in top.children and not (name == "Solver" and any(
+                    re.fullmatch(r"Solver\d+", n) for n in top.children)):
                 self.messages.append((0, len(self.messages),
                                       "%s:%d: cannot convert '%s': the deck has no %s section"
                                       % (self.deck, top.line, name, name), True))
@@ -702,13 +716,9 @@ class Converter:
             self.cannot(self.child(top, "Material"),
                         "the layout of decks before Peridigm 1.0 (one 'Material' list with its damage model "
                         "inside): write 'Materials', 'Damage Models' and 'Blocks' as Peridigm 1.0 does")
-        solvers = [n for n in top.children if re.fullmatch(r"Solver\d*", n)]
-        if len(solvers) > 1:
-            for n in solvers:
-                self.cannot(top.children[n], "several solvers run one after the other: PeriDeal runs one "
-                            "time integrator per run (run two decks, the second from the first's state is not "
-                            "possible either: there is no restart)")
-                top.children[n].used = True
+        # Solver, Solver1, Solver2, ...: run in the order of their numbers.
+        solvers = sorted([n for n in top.children if re.fullmatch(r"Solver\d*", n)],
+                         key=lambda n: int(n[6:] or 0))
 
         self.discretization(self.child(top, "Discretization"))
         self.materials_section(self.child(top, "Materials"))
@@ -717,19 +727,31 @@ class Converter:
         self.conditions_section(self.child(top, "Boundary Conditions"))
         self.contact_section(self.child(top, "Contact"))
         self.computes_section(self.child(top, "Compute Class Parameters"))
-        if len(solvers) == 1:
-            self.solver_section(self.child(top, solvers[0]))
-        contact = top.children.get("Contact")
-        solver_type = [i[2] for i in self.prm.sub("Solver").items if i[0] == "set" and i[1] == "Type"]
-        if contact is not None and solver_type and solver_type[0] != "Verlet":
-            self.cannot(contact, "PeriDeal's contact acts in explicit runs only (Solver/Type = Verlet), "
-                        "not with its %s solver" % solver_type[0])
+        if solvers:
+            end = self.solver_section(self.child(top, solvers[0]))
+            solver_types = [self.solver_type]
+            if len(solvers) > 1:
+                # Peridigm's later solvers: PeriDeal's Solver stages, each from where the one before ended.
+                stages = self.prm.sub("Solver stages")
+                names = [n.lower() for n in solvers[1:]]
+                stages.set("Names", ", ".join(names), "Peridigm's %s, run after %s in this order."
+                           % (", ".join(solvers[1:]), solvers[0]))
+                for n, name in zip(solvers[1:], names):
+                    end = self.solver_section(self.child(top, n), out=stages.sub(name), start=end)
+                    solver_types.append(self.solver_type)
+            contact = top.children.get("Contact")
+            others = sorted(set(t for t in solver_types if t and t != "Verlet"))
+            if contact is not None and others:
+                self.cannot(contact, "PeriDeal's contact acts in explicit runs only (Type = Verlet), "
+                            "not with its %s solver" % others[0])
         outputs = [n for n in top.children if re.fullmatch(r"Output_?\d*", n)]
         self.output_sections([self.child(top, n) for n in outputs])
         self.emit_regions()
         restart = self.child(top, "Restart")
         if restart is not None:
-            self.cannot(restart, "PeriDeal writes no restart files", essential=False)
+            self.cannot(restart, "Peridigm's restart files are not read; PeriDeal writes its own checkpoints: "
+                        "set Output/Checkpoint/Frequency and continue with pd_app --restart (doc/restart.md)",
+                        essential=False)
         for c in top.children.values():
             if not c.used:
                 c.used = True
@@ -871,13 +893,7 @@ class Converter:
                    "vectors are copied as they are (TRAP: a deck written for PeriDeal before\n"
                    "December 2026, which took Normal x Bottom unit vector, had Normal negated).")
         names = []
-        for c in f.children.values():
-            c.used = True
-            if self.bad_name(c):
-                continue
-            if not c.is_list():
-                self.cannot(c, "a bond filter is a list")
-                continue
+        for c in self.list_entries(f, "a bond filter is a list"):
             ftype = self.text(c, "Type", required=True)
             if ftype != "Rectangular_Plane":
                 if ftype is not None:
@@ -925,13 +941,7 @@ class Converter:
         out = self.prm.sub("Materials")
         self.from_comment(out, m)
         names = []
-        for c in m.children.values():
-            c.used = True
-            if self.bad_name(c):
-                continue
-            if not c.is_list():
-                self.cannot(c, "a material is a list of its properties")
-                continue
+        for c in self.list_entries(m, "a material is a list of its properties"):
             model = self.text(c, "Material Model", required=True)
             if model is None:
                 self.skip(c)
@@ -1036,13 +1046,7 @@ class Converter:
         out = self.prm.sub("Damage models")
         self.from_comment(out, m)
         names = []
-        for c in m.children.values():
-            c.used = True
-            if self.bad_name(c):
-                continue
-            if not c.is_list():
-                self.cannot(c, "a damage model is a list of its properties")
-                continue
+        for c in self.list_entries(m, "a damage model is a list of its properties"):
             model = self.text(c, "Damage Model", required=True)
             if model is None:
                 self.skip(c)
@@ -1100,13 +1104,7 @@ class Converter:
         out = self.prm.sub("Blocks")
         self.from_comment(out, b)
         entries = []
-        for c in b.children.values():
-            c.used = True
-            if self.bad_name(c):
-                continue
-            if not c.is_list():
-                self.cannot(c, "a block is a list (Block Names, Material, ...)")
-                continue
+        for c in self.list_entries(b, "a block is a list (Block Names, Material, ...)"):
             names = self.text(c, "Block Names", required=True)
             material = self.text(c, "Material", required=True)
             damage = self.text(c, "Damage Model")
@@ -1348,13 +1346,7 @@ class Converter:
         ms = self.child(c, "Models")
         mnames = []
         if ms is not None:
-            for m in ms.children.values():
-                m.used = True
-                if self.bad_name(m):
-                    continue
-                if not m.is_list():
-                    self.cannot(m, "a contact model is a list")
-                    continue
+            for m in self.list_entries(ms, "a contact model is a list"):
                 model = self.text(m, "Contact Model", required=True)
                 if model not in self.CONTACT:
                     if model is not None:
@@ -1390,13 +1382,7 @@ class Converter:
         inames = []
         if inter is not None:
             isub = out.sub("Interactions")
-            for i in inter.children.values():
-                i.used = True
-                if self.bad_name(i):
-                    continue
-                if not i.is_list():
-                    self.cannot(i, "an interaction is a list")
-                    continue
+            for i in self.list_entries(inter, "an interaction is a list"):
                 model = self.text(i, "Contact Model", required=True)
                 if i.name in ("General Contact", "Self Contact"):
                     if model is not None:
@@ -1440,13 +1426,7 @@ class Converter:
         out = self.prm.sub("Computes")
         self.from_comment(out, cc)
         names = []
-        for c in cc.children.values():
-            c.used = True
-            if self.bad_name(c, essential=False):
-                continue
-            if not c.is_list():
-                self.cannot(c, "a compute class is a list", essential=False)
-                continue
+        for c in self.list_entries(cc, "a compute class is a list", essential=False):
             cls = self.text(c, "Compute Class", required=True, essential=False)
             label = self.text(c, "Output Label", required=True, essential=False)
             if label:
@@ -1536,23 +1516,39 @@ class Converter:
 
     # Solver -----------------------------------------------------------------
 
-    def solver_section(self, s):
-        out = self.prm.sub("Solver")
+    def solver_section(self, s, out=None, start=None):
+        """Solver (out None), or a later solver into its Solver stages entry out,
+        starting where the one before ended (start, if known). Returns the end
+        time (None if unknown); self.solver_type becomes its PeriDeal Type."""
+        stage = out is not None
+        if not stage:
+            out = self.prm.sub("Solver")
+        self.solver_type = None
         self.from_comment(out, s)
         self.child(s, "Verbose")
         t0 = self.number(s, "Initial Time")
         t1 = self.number(s, "Final Time")
+        if stage:
+            # A stage has no Initial time: it starts where the solver before it ended.
+            if t0 is not None and start is not None and abs(float(t0) - float(start)) > 1e-12 * max(1.0, abs(float(start))):
+                self.warn(s.children["Initial Time"], "Initial Time %s is not the end of the solver before (%s): "
+                          "PeriDeal starts a stage where the one before ended" % (t0, start))
+            t0 = start
         kinds = [k for k in ("Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit") if k in s.children]
         if len(kinds) != 1:
             self.cannot(s, "one of Verlet, QuasiStatic, NOXQuasiStatic, Implicit is needed, found %s"
                         % (", ".join(kinds) or "none"), path=s.path())
             self.leftovers(s)
-            return
+            return None
         kind = kinds[0]
         k = self.child(s, kind)
+        self.solver_type = {"Verlet": "Verlet", "QuasiStatic": "QuasiStatic", "NOXQuasiStatic": "QuasiStatic",
+                            "Implicit": "Newmark"}[kind]
+        if stage and t0 is not None:
+            out.comment("Starts at t = %s, where the solver before it ends." % t0)
         if kind == "Verlet":
             out.set("Type", "Verlet", "Peridigm's Verlet: explicit velocity Verlet.")
-            if t0 is not None:
+            if t0 is not None and not stage:
                 out.set("Initial time", t0)
             if t1 is not None:
                 out.set("Final time", t1)
@@ -1572,7 +1568,7 @@ class Converter:
                 self.warn(k, "neither Fixed dt nor Safety Factor: PeriDeal's default Safety factor 0.8 applies")
         elif kind in ("QuasiStatic", "NOXQuasiStatic"):
             out.set("Type", "QuasiStatic", "Peridigm's %s: Newton's method per load step." % kind)
-            if t0 is not None:
+            if t0 is not None and not stage:
                 out.set("Initial time", t0)
             if t1 is not None:
                 out.set("Final time", t1)
@@ -1603,7 +1599,7 @@ class Converter:
         else:  # Implicit: Newmark
             out.set("Type", "Newmark", "Peridigm's Implicit: Newmark-beta.")
             dt = self.number(k, "Fixed dt", required=True)
-            if t0 is not None:
+            if t0 is not None and not stage:
                 out.set("Initial time", t0)
             if t1 is not None:
                 out.set("Final time", t1)
@@ -1624,6 +1620,7 @@ class Converter:
                            "(doc/implicit.md); PeriDeal's default applies")
         self.leftovers(k)
         self.leftovers(s)
+        return t1
 
     # Output -----------------------------------------------------------------
 

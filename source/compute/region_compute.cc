@@ -1,4 +1,5 @@
 #include <perideal/compute/region_compute.h>
+#include <perideal/output/checkpoint.h>
 
 #include <perideal/continuum/continuum_field.h>
 
@@ -118,5 +119,17 @@ namespace perideal
           x.push_back(node.x);
       }
     return reduction->reduce(q, V, x, comm);
+  }
+
+  void
+  RegionCompute::save(CheckpointWriter &out) const
+  {
+    out.put(history);
+  }
+
+  void
+  RegionCompute::load(CheckpointReader &in)
+  {
+    in.get(history);
   }
 } // namespace perideal

@@ -3,6 +3,7 @@
 #include <perideal/base/expression.h>
 #include <perideal/base/format.h>
 #include <perideal/conditions/condition_set.h>
+#include <perideal/output/checkpoint.h>
 #include <perideal/continuum/coupling.h>
 
 #include <deal.II/base/mpi.h>
@@ -241,5 +242,25 @@ namespace perideal
   {
     const unsigned int k = c.dof;
     return (state.acceleration.empty() ? 0.0 : state.mass(k) * state.acceleration[k]) - state.measure(k) * state.f(k);
+  }
+
+  void
+  ConditionSet::save(CheckpointWriter &out) const
+  {
+    out.section("conditions");
+    out.put(constraint_force);
+    out.put(constraint_displacement);
+  }
+
+  void
+  ConditionSet::load(CheckpointReader &in)
+  {
+    in.section("conditions");
+    const std::size_t n = constraints.size();
+    in.get(constraint_force);
+    in.get(constraint_displacement);
+    in.expect(constraint_displacement.size() == n && (constraint_force.empty() || constraint_force.size() == n),
+              "this rank has " + std::to_string(n) + " constrained degrees of freedom, the checkpoint " +
+                std::to_string(constraint_displacement.size()));
   }
 } // namespace perideal

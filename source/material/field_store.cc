@@ -1,4 +1,5 @@
 #include <perideal/material/field_store.h>
+#include <perideal/output/checkpoint.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/index_set.h>
@@ -159,6 +160,54 @@ namespace perideal
         std::copy(e.now.begin(), e.now.end(), e.old.begin());
       else if (bonds_written)
         e.now.swap(e.old);
+    bonds_written = false;
+  }
+
+  void
+  FieldStore::save(CheckpointWriter &out) const
+  {
+    out.section("history fields");
+    for (const auto &[name, e] : fields)
+      if (e.spec.use == FieldUse::history)
+        {
+          out.put(name);
+          out.put_owned(e.old);
+        }
+    out.put(std::string());
+    for (const auto &[name, e] : bond_fields)
+      {
+        out.put(name);
+        out.put(e.old);
+      }
+    out.put(std::string());
+  }
+
+  void
+  FieldStore::load(CheckpointReader &in)
+  {
+    in.section("history fields");
+    for (auto &[name, e] : fields)
+      if (e.spec.use == FieldUse::history)
+        {
+          std::string found;
+          in.get(found);
+          in.expect(found == name, "expected the history field '" + name + "', found '" + found + "'");
+          in.get_owned(e.old, "the history field '" + name + "'");
+          e.now = e.old;
+        }
+    in.expect(in.get<std::uint64_t>() == 0, "the checkpoint has more history fields than this run's models");
+    for (auto &[name, e] : bond_fields)
+      {
+        std::string found;
+        in.get(found);
+        in.expect(found == name, "expected the bond field '" + name + "', found '" + found + "'");
+        const std::size_t n = e.old.size();
+        in.get(e.old);
+        in.expect(e.old.size() == n, "the bond field '" + name + "' has " + std::to_string(n) +
+                                       " bonds on this rank, " + std::to_string(e.old.size()) + " in the checkpoint");
+        e.now = e.old;
+      }
+    in.expect(in.get<std::uint64_t>() == 0, "the checkpoint has more bond fields than this run's models");
     bonds_written = false;
   }
 

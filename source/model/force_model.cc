@@ -4,6 +4,7 @@
 #include <perideal/continuum/coupling.h>
 #include <perideal/contact/contact.h>
 #include <perideal/model/force_model.h>
+#include <perideal/output/checkpoint.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -601,6 +602,43 @@ namespace perideal
         neglected = from.neglected;
         neglected.update_ghost_values();
       }
+  }
+
+  void
+  ForceModel::save(CheckpointWriter &out) const
+  {
+    out.section("force model");
+    out.put(broken);
+    out.put(damage);
+    out.put(damage_updates);
+    out.put(neglect_checked);
+    out.put(n_neglected);
+    out.put(neglecting);
+    if (neglecting)
+      out.put_owned(neglected);
+    fields->save(out);
+  }
+
+  void
+  ForceModel::load(CheckpointReader &in)
+  {
+    in.section("force model");
+    const std::size_t n_broken = broken.size(), n_damage = damage.size();
+    in.get(broken);
+    in.get(damage);
+    in.expect(broken.size() == n_broken && damage.size() == n_damage,
+              "this rank has " + std::to_string(n_broken) + " bonds with damage, the checkpoint " +
+                std::to_string(broken.size()));
+    in.get(damage_updates);
+    in.get(neglect_checked);
+    in.get(n_neglected);
+    in.expect(in.get<bool>() == neglecting, "neglecting damaged points differs");
+    if (neglecting)
+      {
+        in.get_owned(neglected, "the neglected points");
+        neglected.update_ghost_values();
+      }
+    fields->load(in);
   }
 
   void

@@ -3,6 +3,7 @@
 #include <perideal/continuum/continuum_field.h>
 #include <perideal/discretization/discretization.h>
 #include <perideal/model/state.h>
+#include <perideal/output/checkpoint.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -122,6 +123,64 @@ namespace perideal
   {
     if (hanging)
       continuum->hanging.distribute(continuum->V);
+  }
+
+  void
+  MechanicalState::save(CheckpointWriter &out) const
+  {
+    out.section("mechanical state");
+    out.put(size());
+    for (unsigned int k = 0; k < size(); ++k)
+      out.put(u(k));
+    for (unsigned int k = 0; k < size(); ++k)
+      out.put(v(k));
+    for (unsigned int k = 0; k < size(); ++k)
+      out.put(f(k));
+    out.put(acceleration);
+  }
+
+  void
+  MechanicalState::load(CheckpointReader &in)
+  {
+    in.section("mechanical state");
+    const unsigned int n = in.get<unsigned int>();
+    in.expect(n == size(), "the body has " + std::to_string(size()) + " degrees of freedom on this rank, " +
+                             std::to_string(n) + " in the checkpoint");
+    for (unsigned int k = 0; k < n; ++k)
+      in.get(u(k));
+    for (unsigned int k = 0; k < n; ++k)
+      in.get(v(k));
+    for (unsigned int k = 0; k < n; ++k)
+      in.get(is_fe(k) ? continuum->F.local_element(fe_local(k)) : force.local_element(k));
+    in.get(acceleration);
+  }
+
+  void
+  RunRecord::save(CheckpointWriter &out) const
+  {
+    out.section("run record");
+    for (const double x : {dt, dt_stable, external_work, initial_energy, last_strain_energy, last_kinetic_energy,
+                           dissipated_energy, material_dissipation, last_contact_energy, contact_dissipation,
+                           shortest_dt, last_newton.residual, smallest_step_fraction})
+      out.put(x);
+    for (const unsigned int n : {shortened_steps, last_newton.newton_iterations, last_newton.linear_iterations,
+                                 last_damage_solves, step_cuts})
+      out.put(n);
+    out.put(warnings);
+  }
+
+  void
+  RunRecord::load(CheckpointReader &in)
+  {
+    in.section("run record");
+    for (double *x : {&dt, &dt_stable, &external_work, &initial_energy, &last_strain_energy, &last_kinetic_energy,
+                      &dissipated_energy, &material_dissipation, &last_contact_energy, &contact_dissipation,
+                      &shortest_dt, &last_newton.residual, &smallest_step_fraction})
+      in.get(*x);
+    for (unsigned int *n : {&shortened_steps, &last_newton.newton_iterations, &last_newton.linear_iterations,
+                            &last_damage_solves, &step_cuts})
+      in.get(*n);
+    in.get(warnings);
   }
 
   void

@@ -274,6 +274,7 @@ namespace perideal
                       "smallest point index, the same on any number of ranks) with its points, mass, centre-of-"
                       "mass velocity and kinetic energy. The field Fragment (Variables) gives each point its "
                       "fragment's number.");
+    CheckpointParameters::declare_parameters(prm);
   }
 
   void
@@ -287,6 +288,7 @@ namespace perideal
     globals   = prm.get_bool("Write globals");
     fragments = prm.get_bool("Fragments");
     double_precision = prm.get("Field precision") == "double";
+    checkpoint.parse_parameters(prm, directory, base_name);
     variables.clear();
     for (const auto &v : Utilities::split_string_list(prm.get("Variables"), ','))
       if (!v.empty())
@@ -327,6 +329,22 @@ namespace perideal
     std::ostringstream out;
     prm.print_parameters(out, ParameterHandler::PRM);
     parameters = out.str();
+  }
+
+  void
+  OutputWriter::save(CheckpointWriter &out) const
+  {
+    out.section("output series");
+    out.put(pvd_records);
+    out.put(csv_lines);
+  }
+
+  void
+  OutputWriter::load(CheckpointReader &in)
+  {
+    in.section("output series");
+    in.get(pvd_records);
+    in.get(csv_lines);
   }
 
   void

@@ -10,6 +10,7 @@
 #include <perideal/model/force_model.h>
 #include <perideal/contact/contact.h>
 #include <perideal/output/postprocess.h>
+#include <perideal/output/checkpoint.h>
 #include <perideal/simulation/deck.h>
 #include <perideal/solver/time_integrator.h>
 
@@ -131,7 +132,7 @@ namespace perideal
     record.last_strain_energy  = se;
     max_damage         = Utilities::MPI::max(max_damage, comm);
     const double broken_bonds = Utilities::MPI::sum(double(broken_local), comm) / 2;
-    std::vector<std::pair<std::string, double>> row{{"step", step},
+    std::vector<std::pair<std::string, double>> row{{"step", step + step_offset},
                                                     {"time", time},
                                                     {"kinetic_energy", ke},
                                                     {"strain_energy", se},
@@ -263,10 +264,11 @@ namespace perideal
       for (const auto &cell : discretization.dof_handler.active_cell_iterators())
         if (cell->is_locally_owned() && cell->active_fe_index() > 0)
           written_cells[cell->active_cell_index()] = true;
-    output.write_fields(discretization.dof_handler, written_cells, cell_fields, vector_fields, step, time, comm);
+    output.write_fields(discretization.dof_handler, written_cells, cell_fields, vector_fields, step + step_offset,
+                        time, comm);
     // After the step's field files, before its globals row (README, Output).
     if (output.fragments)
-      write_fragments(fragments, step, time);
+      write_fragments(fragments, step + step_offset, time);
     if (globals)
       output.write_globals(row, comm);
   }
@@ -491,5 +493,35 @@ namespace perideal
     // Where ranks wait for each other: the spread of every section over ranks.
     if (ranks > 1)
       timer.print_wall_time_statistics(comm);
+  }
+
+  void
+  Postprocess::save(CheckpointWriter &out) const
+  {
+    output.save(out);
+    out.section("postprocess");
+    out.put(computes.size());
+    for (const RegionCompute &c : computes)
+      c.save(out);
+    out.put(fragments_csv);
+    out.put(last_fragments);
+    out.put(last_fragments_time);
+    out.put(fragments_found);
+    out.put(step_offset);
+  }
+
+  void
+  Postprocess::load(CheckpointReader &in)
+  {
+    output.load(in);
+    in.section("postprocess");
+    in.expect(in.get<std::size_t>() == computes.size(), "the number of computes differs");
+    for (RegionCompute &c : computes)
+      c.load(in);
+    in.get(fragments_csv);
+    in.get(last_fragments);
+    in.get(last_fragments_time);
+    in.get(fragments_found);
+    in.get(step_offset);
   }
 } // namespace perideal

@@ -1,6 +1,7 @@
 // The parameter file: declared from the registries, read in three passes
 // (base/input.h), parsed into a Deck.
 
+#include <perideal/base/format.h>
 #include <perideal/model/force_model.h>
 #include <perideal/simulation/deck.h>
 #include <perideal/solver/time_integrator.h>
@@ -8,6 +9,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <cctype>
+#include <limits>
 
 namespace perideal
 {
@@ -43,6 +45,52 @@ namespace perideal
           prm.leave_subsection();
         }
       prm.leave_subsection();
+    }
+  } // namespace
+
+  namespace
+  {
+    /// The keys of Solver, or of a stage (Solver stages/NAME: no Initial
+    /// time, its own output frequencies).
+    void
+    declare_solver_entries(ParameterHandler &prm, const bool stage)
+    {
+      {
+        std::string doc = "The time integrator, one of:";
+        for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
+          doc += " " + name + ": " + entry.documentation;
+        prm.declare_entry("Type", "Verlet", Registry<TimeIntegrator>::instance().selection(), doc);
+      }
+      if (!stage)
+        prm.declare_entry("Initial time", "0", Patterns::Double(), "Start time.");
+      else
+        {
+          prm.declare_entry("Output frequency", "-1", Patterns::Integer(-1),
+                            "Output/Frequency for the steps of this solver (-1: Output/Frequency's); the "
+                            "last step of each solver is written.");
+          prm.declare_entry("Globals frequency", "-1", Patterns::Integer(-1),
+                            "Output/Globals frequency for the steps of this solver (-1: Output's).");
+        }
+      prm.declare_entry("Final time", "0", Patterns::Double(), "End time. The number of steps is ceil((final - initial)/dt), and dt is then shortened to land on the final time exactly (Verlet steps shortened for fast points, see Verlet/Fixed dt, add steps).");
+      prm.declare_entry("Number of steps", "0", Patterns::Integer(0), "If positive: run exactly this many steps of dt and ignore Final time.");
+      prm.declare_entry("Energy growth limit", "10", Patterns::Double(1),
+                        "Stop when the kinetic energy exceeds this factor times (initial kinetic + "
+                        "strain energy + work of external forces): the run is unstable.");
+      prm.declare_entry("Track dissipated energy", "true", Patterns::Bool(),
+                        "With a damage model: sum the strain energy that bond damage releases (at the state "
+                        "where it happened, with the damage before minus after) into the globals column "
+                        "released_energy and the closing summary's energy balance, which then checks that the "
+                        "run makes no energy. PMB, LPS, Elastic plastic and Viscoelastic need one pass over the "
+                        "bonds of the points whose bonds changed (doc/examples/fragmenting_cylinder_reduced, 2 "
+                        "ranks: time loop 2.0 s instead of 1.8 s); the correspondence models evaluate those "
+                        "points twice more (their cube: +11%). "
+                        "false: the summary says that its balance includes the untracked release.");
+      prm.enter_subsection("Implicit");
+      ImplicitParameters::declare_parameters(prm);
+      prm.leave_subsection();
+      // Each integrator's own keys (Verlet: subsection Verlet).
+      for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
+        entry.declare(prm);
     }
   } // namespace
 
@@ -123,34 +171,13 @@ namespace perideal
                           names.computes, [&](const std::string &) { RegionCompute::declare_parameters(prm); });
 
     prm.enter_subsection("Solver");
-    {
-      std::string doc = "The time integrator, one of:";
-      for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
-        doc += " " + name + ": " + entry.documentation;
-      prm.declare_entry("Type", "Verlet", Registry<TimeIntegrator>::instance().selection(), doc);
-    }
-    prm.declare_entry("Initial time", "0", Patterns::Double(), "Start time.");
-    prm.declare_entry("Final time", "0", Patterns::Double(), "End time. The number of steps is ceil((final - initial)/dt), and dt is then shortened to land on the final time exactly (Verlet steps shortened for fast points, see Verlet/Fixed dt, add steps).");
-    prm.declare_entry("Number of steps", "0", Patterns::Integer(0), "If positive: run exactly this many steps of dt and ignore Final time.");
-    prm.declare_entry("Energy growth limit", "10", Patterns::Double(1),
-                      "Stop when the kinetic energy exceeds this factor times (initial kinetic + "
-                      "strain energy + work of external forces): the run is unstable.");
-    prm.declare_entry("Track dissipated energy", "true", Patterns::Bool(),
-                      "With a damage model: sum the strain energy that bond damage releases (at the state "
-                      "where it happened, with the damage before minus after) into the globals column "
-                      "released_energy and the closing summary's energy balance, which then checks that the "
-                      "run makes no energy. PMB, LPS, Elastic plastic and Viscoelastic need one pass over the "
-                      "bonds of the points whose bonds changed (doc/examples/fragmenting_cylinder_reduced, 2 "
-                      "ranks: time loop 2.0 s instead of 1.8 s); the correspondence models evaluate those "
-                      "points twice more (their cube: +11%). "
-                      "false: the summary says that its balance includes the untracked release.");
-    prm.enter_subsection("Implicit");
-    ImplicitParameters::declare_parameters(prm);
+    declare_solver_entries(prm, false);
     prm.leave_subsection();
-    // Each integrator's own keys (Verlet: subsection Verlet).
-    for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
-      entry.declare(prm);
-    prm.leave_subsection();
+    declare_named_section(prm, "Solver stages",
+                          "solvers that run after the one of Solver, in this order (Peridigm's Solver2, "
+                          "Solver3, ...): each starts from the state, time and step where the one before ended, "
+                          "and continues the globals CSV and the .pvd series",
+                          names.solver_stages, [&](const std::string &) { declare_solver_entries(prm, true); });
 
     prm.enter_subsection("Output");
     OutputWriter::declare_parameters(prm, model_output_fields());
@@ -165,6 +192,7 @@ namespace perideal
     names.blocks        = {"My block"};
     names.conditions    = {"My condition"};
     names.computes      = {"My compute"};
+    names.solver_stages = {"My stage"};
     names.bond_filters  = {"My filter"};
     names.initial_damage = {"My initial damage"};
     for (const auto &m : Registry<Material>::instance().all())
@@ -240,6 +268,10 @@ namespace perideal
       out << "```\n";
   }
 
+  SolverStage::SolverStage()                   = default;
+  SolverStage::SolverStage(SolverStage &&) noexcept = default;
+  SolverStage::~SolverStage()                  = default;
+
   void
   read_deck(const std::string &file, Deck &deck)
   {
@@ -266,6 +298,7 @@ namespace perideal
       names.blocks     = read_list(prm, {"Blocks"});
       names.conditions = read_list(prm, {"Boundary conditions"});
       names.computes   = read_list(prm, {"Computes"});
+      names.solver_stages = read_list(prm, {"Solver stages"});
       for (const auto &n : read_list(prm, {"Materials"}))
         names.materials[n] = "";
       for (const auto &n : read_list(prm, {"Damage models"}))
@@ -500,40 +533,66 @@ namespace perideal
       }
     prm.leave_subsection();
 
+    // Solver, then each stage: the same keys (a stage has no Initial time:
+    // it starts where the one before ends).
+    const auto parse_solver = [&](SolverParameters &solver, std::unique_ptr<TimeIntegrator> &chosen,
+                                  const std::string &path, const bool stage) {
+      solver.type = prm.get("Type");
+      prm.enter_subsection("Implicit");
+      solver.implicit.parse_parameters(prm);
+      prm.leave_subsection();
+      if (!stage)
+        solver.initial_time = prm.get_double("Initial time");
+      solver.final_time          = prm.get_double("Final time");
+      solver.requested_steps     = prm.get_integer("Number of steps");
+      solver.energy_growth_limit = prm.get_double("Energy growth limit");
+      solver.track_dissipation   = prm.get_bool("Track dissipated energy");
+      // Every registered integrator parses its own keys, so that their errors
+      // show whichever runs; the chosen one checks them against the rest.
+      for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
+        {
+          auto integrator = entry.create();
+          integrator->parse_parameters(prm);
+          if (name == solver.type)
+            chosen = std::move(integrator);
+        }
+      for (const auto &block : deck.blocks)
+        AssertThrow(!block.rigid || solver.type == "Verlet",
+                    ExcMessage("Blocks/" + block.name + "/Type: " + path + "/Type is " + solver.type +
+                               ", but a rigid block moves in explicit runs only (Type = Verlet): Newton's "
+                               "matrix has no rows for a rigid body yet"));
+      AssertThrow(!deck.contact.active() || solver.type == "Verlet",
+                  ExcMessage("Contact: " + path + "/Type is " + solver.type +
+                             ", but contact acts in explicit runs only (Type = Verlet): the contact force has "
+                             "no tangent for Newton's method yet"));
+      chosen->check_parameters(solver, deck.has_continuum);
+      AssertThrow(stage || solver.requested_steps > 0 || solver.final_time > solver.initial_time,
+                  ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
+                             "Solver/Number of steps)"));
+    };
     prm.enter_subsection("Solver");
-    SolverParameters &solver = deck.solver;
-    solver.type              = prm.get("Type");
-    prm.enter_subsection("Implicit");
-    solver.implicit.parse_parameters(prm);
+    parse_solver(deck.solver, deck.integrator, "Solver", false);
     prm.leave_subsection();
-    solver.initial_time        = prm.get_double("Initial time");
-    solver.final_time          = prm.get_double("Final time");
-    solver.requested_steps     = prm.get_integer("Number of steps");
-    solver.energy_growth_limit = prm.get_double("Energy growth limit");
-    solver.track_dissipation   = prm.get_bool("Track dissipated energy");
-    // Every registered integrator parses its own keys, so that their errors
-    // show whichever runs; the chosen one checks them against the rest.
-    for (const auto &[name, entry] : Registry<TimeIntegrator>::instance().all())
+    prm.enter_subsection("Solver stages");
+    double previous_end = deck.solver.requested_steps > 0 ? -std::numeric_limits<double>::max() : deck.solver.final_time;
+    for (const auto &name : names.solver_stages)
       {
-        auto integrator = entry.create();
-        integrator->parse_parameters(prm);
-        if (name == solver.type)
-          deck.integrator = std::move(integrator);
+        prm.enter_subsection(name);
+        SolverStage stage;
+        stage.name = name;
+        parse_solver(stage.solver, stage.integrator, "Solver stages/" + name, true);
+        stage.output_frequency  = prm.get_integer("Output frequency");
+        stage.globals_frequency = prm.get_integer("Globals frequency");
+        // Known now only where both ends are given; else checked when the stage starts.
+        AssertThrow(stage.solver.requested_steps > 0 || stage.solver.final_time > previous_end,
+                    ExcMessage("Solver stages/" + name + "/Final time (" + sci(stage.solver.final_time, 6) +
+                               ") must be after the end of the solver before it (t = " + sci(previous_end, 6) +
+                               "), or set Number of steps"));
+        previous_end = stage.solver.requested_steps > 0 ? -std::numeric_limits<double>::max() : stage.solver.final_time;
+        deck.stages.push_back(std::move(stage));
+        prm.leave_subsection();
       }
     prm.leave_subsection();
-    for (const auto &block : deck.blocks)
-      AssertThrow(!block.rigid || solver.type == "Verlet",
-                  ExcMessage("Blocks/" + block.name + "/Type: Solver/Type is " + solver.type +
-                             ", but a rigid block moves in explicit runs only (Solver/Type = Verlet): Newton's "
-                             "matrix has no rows for a rigid body yet"));
-    AssertThrow(!deck.contact.active() || solver.type == "Verlet",
-                ExcMessage("Contact: Solver/Type is " + solver.type +
-                           ", but contact acts in explicit runs only (Solver/Type = Verlet): the contact force has "
-                           "no tangent for Newton's method yet"));
-    deck.integrator->check_parameters(solver, deck.has_continuum);
-    AssertThrow(solver.requested_steps > 0 || solver.final_time > solver.initial_time,
-                ExcMessage("Solver/Final time must be after Solver/Initial time (or set "
-                           "Solver/Number of steps)"));
 
     prm.enter_subsection("Output");
     deck.output.parse_parameters(prm);

@@ -8,6 +8,7 @@
 #include <perideal/continuum/coupling.h>
 #include <perideal/discretization/discretization.h>
 #include <perideal/model/force_model.h>
+#include <perideal/output/checkpoint.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/simulation.h>
 #include <perideal/solver/time_integrator.h>
@@ -37,7 +38,8 @@ namespace perideal
   SimulatorAccess
   Simulation::access()
   {
-    return SimulatorAccess{comm, pcout, timer, deck, *discretization, *model, coupling.get(), *conditions, *post, state, record};
+    return SimulatorAccess{comm, pcout, timer, deck, *discretization, *model, coupling.get(), *conditions, *post, state, record, restart, stage, continues,
+                           stage == deck.stages.size()};
   }
 
   void
@@ -95,11 +97,52 @@ namespace perideal
   }
 
   void
-  Simulation::run()
+  Simulation::run(const std::string &restart_directory)
   {
+    // A restart continues the solver (Solver stages) its checkpoint was written in.
+    const CheckpointStage from = restart_directory.empty() ? CheckpointStage() : checkpoint_stage(restart_directory, comm);
+    AssertThrow(from.stage <= deck.stages.size(),
+                ExcMessage("--restart '" + restart_directory + "': the checkpoint was written by the solver of Solver "
+                           "stages number " + std::to_string(from.stage) + ", this parameter file has " +
+                           std::to_string(deck.stages.size())));
+    restart        = restart_directory;
+    base_frequency = deck.output.frequency;
+    base_globals   = deck.output.globals_frequency;
+    if (from.stage > 0)
+      start_stage(from.stage, from.start);
     setup(false);
     access().stop_if_interrupted_in_setup();
     post->print_setup_report();
     deck.integrator->run();
+    while (stage < deck.stages.size())
+      {
+        post->step_offset += deck.integrator->steps_done();
+        const double end = deck.integrator->end_time();
+        start_stage(stage + 1, end);
+        restart.clear();
+        const SolverStage &s = deck.stages[stage - 1];
+        pcout << "\nSolver stages/" << s.name << ": " << deck.solver.type << " from t = " << end << " (step "
+              << post->step_offset << ")" << std::endl;
+        deck.integrator->initialize(access());
+        deck.integrator->setup();
+        deck.integrator->run();
+      }
+  }
+
+  void
+  Simulation::start_stage(const unsigned int k, const double start)
+  {
+    SolverStage &s = deck.stages[k - 1];
+    AssertThrow(s.solver.requested_steps > 0 || s.solver.final_time > start,
+                ExcMessage("Solver stages/" + s.name + "/Final time (" + sci(s.solver.final_time, 6) +
+                           ") must be after the end of the solver before it (t = " + sci(start, 6) +
+                           "), or set Number of steps"));
+    deck.solver              = s.solver;
+    deck.solver.initial_time = start;
+    deck.integrator          = std::move(s.integrator);
+    deck.output.frequency         = s.output_frequency >= 0 ? s.output_frequency : base_frequency;
+    deck.output.globals_frequency = s.globals_frequency >= 0 ? s.globals_frequency : base_globals;
+    stage                    = k;
+    continues                = true;
   }
 } // namespace perideal

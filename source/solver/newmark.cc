@@ -68,7 +68,7 @@ namespace perideal
       run() override
       {
         do_initial_timestep();
-        for (step = 1; step <= n_steps; ++step)
+        for (step = first_step; step <= n_steps; ++step)
           do_timestep();
         finish();
       }
@@ -109,21 +109,35 @@ namespace perideal
       MechanicalState        &state  = access->state;
       n_steps                        = solver.requested_steps;
       t0                             = solver.initial_time;
+      AssertThrow(solver.final_time > solver.initial_time,
+                  ExcMessage("Newmark: Final time (" + sci(solver.final_time, 6) + ") must be after the start (t = " +
+                             sci(solver.initial_time, 6) + ", where the solver before ended)"));
       access->record.dt              = (solver.final_time - solver.initial_time) / n_steps;
-      access->post.output.initialize(access->comm);
-      access->conditions.apply_initial_conditions(solver.initial_time);
+      const bool restart = !access->restart.empty(), continues = access->continues;
+      if (restart || !continues)
+        access->post.output.initialize(access->comm);
+      if (!continues)
+        access->conditions.apply_initial_conditions(solver.initial_time);
       access->model.breaking_allowed = false;
       ImplicitSolver &newton         = make_solver();
       access->stop_if_interrupted_in_setup();
 
       // The initial acceleration from the equation of motion (virtual points
       // have no mass: they follow the FE field).
-      access->evaluate_initial_state();
       state.acceleration.assign(state.size(), 0.0);
-      state.for_each([&](const MechanicalState::DoF &d) {
-        state.acceleration[d.number] = d.density > 0 ? d.f / d.density : 0.0;
-      });
-      access->record_initial_state(n_steps, t0);
+      if (restart)
+        restore_run(n_steps);
+      else
+        {
+          // A stage that continues starts from the forces the one before left.
+          if (!continues)
+            access->evaluate_initial_state();
+          state.for_each([&](const MechanicalState::DoF &d) {
+            state.acceleration[d.number] = d.density > 0 ? d.f / d.density : 0.0;
+          });
+          if (!continues)
+            access->record_initial_state(n_steps, t0);
+        }
       access->pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of "
                     << sci(access->record.dt, 6) << " from t = " << t0 << "; tangent " << newton.describe_tangent()
                     << std::endl;
@@ -174,6 +188,8 @@ namespace perideal
     void
     Newmark::finish()
     {
+      finished_steps = n_steps;
+      finished_time  = t0 + n_steps * access->record.dt;
       const double seconds = loop_seconds();
       access->pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
                     << " " << access->deck.solver.implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s"

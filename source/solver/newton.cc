@@ -9,6 +9,7 @@
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
+#include <perideal/output/checkpoint.h>
 #include <perideal/solver/implicit_solver.h>
 #include <perideal/solver/rigid_modes.h>
 
@@ -532,8 +533,49 @@ namespace perideal
     if (post.output.is_output_step(step, n_steps))
       post.write_output(step, t_end, post.output.is_globals_step(step, n_steps),
                         post.output.is_field_step(step, n_steps));
-    if (interrupt_signal(access->comm) != 0)
-      access->stop_interrupted(step, t_end, n_steps, loop_seconds());
+    completed_step    = step;
+    completed_time    = t_end;
+    const bool signal = interrupt_signal(access->comm) != 0;
+    checkpoint_step(step, t_end, signal);
+    if (signal)
+      access->stop_interrupted(step, t_end, n_steps, loop_seconds(), checkpoint_note);
+  }
+
+  void
+  ImplicitIntegrator::save_state(CheckpointWriter &out) const
+  {
+    out.section("implicit");
+    out.put(completed_step);
+    out.put(completed_time);
+    out.put(step_fraction);
+    out.put(total_newton);
+    out.put(total_linear);
+    out.put(total_solves);
+  }
+
+  void
+  ImplicitIntegrator::load_state(CheckpointReader &in)
+  {
+    in.section("implicit");
+    in.get(completed_step);
+    in.get(completed_time);
+    in.get(step_fraction);
+    in.get(total_newton);
+    in.get(total_linear);
+    in.get(total_solves);
+  }
+
+  void
+  ImplicitIntegrator::restore_run(const unsigned int n_steps)
+  {
+    restore_checkpoint();
+    AssertThrow(!access->last_stage || completed_step < n_steps,
+                ExcMessage("--restart '" + access->restart + "': the checkpoint is of the run's last step (" +
+                           std::to_string(completed_step) + "): nothing is left to run"));
+    first_step = completed_step + 1;
+    // The next step's load work starts from the loads of the checkpoint's time.
+    if (access->conditions.has_loads())
+      access->conditions.evaluate_loads(completed_time);
   }
 
   void

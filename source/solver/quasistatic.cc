@@ -44,7 +44,7 @@ namespace perideal
       run() override
       {
         do_initial_step();
-        for (step = 1; step <= n_steps; ++step)
+        for (step = first_step; step <= n_steps; ++step)
           do_load_step();
         finish();
       }
@@ -77,16 +77,24 @@ namespace perideal
       t1      = solver.final_time > solver.initial_time ? solver.final_time : solver.initial_time + 1;
       dt_load = (t1 - t0) / n_steps;
       access->record.dt = dt_load;
-      access->post.output.initialize(access->comm);
-      access->conditions.apply_initial_conditions(solver.initial_time);
+      const bool restart = !access->restart.empty(), continues = access->continues;
+      if (restart || !continues)
+        access->post.output.initialize(access->comm);
+      if (!continues)
+        access->conditions.apply_initial_conditions(solver.initial_time);
       access->model.breaking_allowed = false;
       make_solver();
       access->stop_if_interrupted_in_setup();
       access->pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "
                     << implicit_solver->describe_tangent() << std::endl;
 
-      access->evaluate_initial_state();
-      access->record_initial_state(n_steps, t0);
+      if (restart)
+        restore_run(n_steps);
+      else if (!continues)
+        {
+          access->evaluate_initial_state();
+          access->record_initial_state(n_steps, t0);
+        }
       start_loop();
     }
 
@@ -114,6 +122,8 @@ namespace perideal
     void
     QuasiStatic::finish()
     {
+      finished_steps = n_steps;
+      finished_time  = t1;
       const double seconds = loop_seconds();
       Postprocess &post    = access->post;
       // The energy balance needs the final strain energy.

@@ -5,11 +5,15 @@
 #include <perideal/continuum/coupling.h>
 #include <perideal/model/force_model.h>
 #include <perideal/simulation/deck.h>
+#include <perideal/conditions/condition_set.h>
+#include <perideal/output/checkpoint.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/solver/time_integrator.h>
 
 #include <deal.II/base/mpi.h>
 
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <iostream>
 
@@ -65,7 +69,7 @@ namespace perideal
 
   void
   SimulatorAccess::stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
-                                    const double loop_seconds) const
+                                    const double loop_seconds, const std::string &checkpoint_note) const
   {
     const int           signal = interrupt_signal(comm);
     const OutputWriter &output = post.output;
@@ -80,16 +84,140 @@ namespace perideal
       post.write_output(step, time, add_globals, add_fields);
     else if (!wrote)
       post.global_quantities(step, time); // the summary's energy balance
-    const std::string message = "interrupted by " + signal_name(signal) + " at step " + std::to_string(step) +
+    const std::string message = "interrupted by " + signal_name(signal) + " at step " +
+                                std::to_string(step + post.step_offset) +
                                 " (t = " + sci(time, 6) + "): " +
                                 (output.is_output_step(step, step) ?
-                                   "the output holds steps up to " + std::to_string(step) :
+                                   "the output holds steps up to " + std::to_string(step + post.step_offset) :
                                    std::string("nothing written (Output/Frequency = 0)"));
     // Said before the summary: mpirun, stopping the job, may drop what a
     // rank writes last.
     if (Utilities::MPI::this_mpi_process(comm) == 0)
-      std::cerr << "Error: " << message << std::endl;
+      std::cerr << "Error: " << message << std::endl << checkpoint_note;
     post.print_summary(loop_seconds, step);
     throw Interrupted(signal, message, /*reported=*/true);
+  }
+
+  namespace
+  {
+    /// FNV-1a over @p size bytes.
+    std::uint64_t
+    fnv1a(const void *data, const std::size_t size, std::uint64_t h = 14695981039346656037ull)
+    {
+      const unsigned char *p = static_cast<const unsigned char *>(data);
+      for (std::size_t i = 0; i < size; ++i)
+        h = (h ^ p[i]) * 1099511628211ull;
+      return h;
+    }
+
+    /// What identifies this rank's share of the discretization: its points,
+    /// bonds and DoFs, and a hash of the points' reference positions, global
+    /// numbers and families.
+    std::array<std::uint64_t, 4>
+    signature(const SimulatorAccess &access)
+    {
+      const PointCloud &cloud = access.discretization.cloud;
+      const Bonds      &bonds = access.discretization.bonds;
+      std::uint64_t     h     = fnv1a(cloud.X.data(), cloud.X.size() * sizeof(double));
+      h = fnv1a(cloud.gid.data(), cloud.gid.size() * sizeof(cloud.gid[0]), h);
+      h = fnv1a(bonds.offsets.data(), bonds.offsets.size() * sizeof(bonds.offsets[0]), h);
+      h = fnv1a(bonds.neighbor.data(), bonds.neighbor.size() * sizeof(bonds.neighbor[0]), h);
+      return {{cloud.n_owned(), bonds.n_bonds(), access.state.size(), h}};
+    }
+  } // namespace
+
+  void
+  SimulatorAccess::save_parts(CheckpointWriter &out) const
+  {
+    out.section("discretization");
+    out.put(signature(*this));
+    state.save(out);
+    model.save(out);
+    conditions.save(out);
+    post.save(out);
+    record.save(out);
+  }
+
+  void
+  SimulatorAccess::load_parts(CheckpointReader &in) const
+  {
+    in.section("discretization");
+    const auto  there = in.get<std::array<std::uint64_t, 4>>();
+    const auto  here  = signature(*this);
+    std::string problem;
+    if (there != here)
+      problem = "rank " + std::to_string(Utilities::MPI::this_mpi_process(comm)) + " has " +
+                std::to_string(here[0]) + " points, " + std::to_string(here[1]) + " bonds and " +
+                std::to_string(here[2]) + " degrees of freedom here, " + std::to_string(there[0]) + ", " +
+                std::to_string(there[1]) + " and " + std::to_string(there[2]) + " in the checkpoint" +
+                (there[0] == here[0] && there[1] == here[1] && there[2] == here[2] ?
+                   std::string(", and the points' positions or families differ") :
+                   std::string());
+    for (const std::string &p : Utilities::MPI::all_gather(comm, problem))
+      AssertThrow(p.empty(),
+                  ExcMessage("--restart '" + restart + "': the checkpoint holds another discretization: " + p +
+                             ". The parameters are the same, so a file they read has changed (a Gmsh mesh?)"));
+    state.load(in);
+    update_ghosts();
+    model.load(in);
+    conditions.load(in);
+    post.load(in);
+    record.load(in);
+  }
+
+  // ------------------------------------------------ TimeIntegrator
+
+  void
+  TimeIntegrator::checkpoint_step(const unsigned int step, const double time, const bool signal)
+  {
+    const CheckpointParameters &parameters = access->deck.output.checkpoint;
+    const MPI_Comm              comm       = access->comm;
+    checkpoint_note.clear();
+    bool due = (parameters.frequency > 0 && step % parameters.frequency == 0) || (signal && parameters.on_signal);
+    const auto now = std::chrono::steady_clock::now();
+    if (parameters.minutes > 0 && !due)
+      {
+        // Rank 0's clock decides, for all.
+        const int late = std::chrono::duration<double>(now - last_checkpoint).count() >= 60 * parameters.minutes;
+        due            = Utilities::MPI::broadcast(comm, late, 0) != 0;
+      }
+    if (!due)
+      return;
+    double bytes = 0;
+    {
+      TimerOutput::Scope t(access->timer, "checkpoint");
+      CheckpointWriter   out(parameters.directory, comm);
+      out.section("PeriDeal checkpoint");
+      access->save_parts(out);
+      out.section("integrator");
+      save_state(out);
+      bytes = out.finish(access->deck.output.parameter_text(), step + access->post.step_offset, time, access->stage,
+                         access->deck.solver.initial_time);
+    }
+    last_checkpoint = std::chrono::steady_clock::now();
+    access->pcout << "  checkpoint of step " << step + access->post.step_offset << " (t = " << sci(time, 6) << "): " << parameters.directory
+                  << ", " << (bytes >= 1048576 ? mib(bytes) : sci(bytes / 1024, 3) + " KiB") << " in " << sci(std::chrono::duration<double>(last_checkpoint - now).count(), 3)
+                  << " s" << std::endl;
+    const unsigned int ranks = Utilities::MPI::n_mpi_processes(comm);
+    checkpoint_note = "A checkpoint of step " + std::to_string(step + access->post.step_offset) + " is in '" + parameters.directory +
+                      "': continue with pd_app --restart " + parameters.directory + " and the same parameter file" +
+                      (ranks > 1 ? " on " + std::to_string(ranks) + " ranks" : std::string()) + ".\n";
+  }
+
+  bool
+  TimeIntegrator::restore_checkpoint()
+  {
+    if (access->restart.empty())
+      return false;
+    TimerOutput::Scope t(access->timer, "checkpoint");
+    auto [in, header] = read_checkpoint(access->restart, access->deck.output.parameter_text(), access->comm);
+    in.section("PeriDeal checkpoint");
+    access->load_parts(in);
+    in.section("integrator");
+    load_state(in);
+    in.expect(in.at_end(), "bytes are left after the integrator's state");
+    access->pcout << "Restarted from '" << access->restart << "': step " << header.step << ", t = "
+                  << sci(header.time, 6) << std::endl;
+    return true;
   }
 } // namespace perideal

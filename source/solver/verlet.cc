@@ -11,6 +11,7 @@
 #include <perideal/base/best_point.h>
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
+#include <perideal/output/checkpoint.h>
 #include <perideal/conditions/condition_set.h>
 #include <perideal/contact/contact.h>
 #include <perideal/model/force_model.h>
@@ -98,8 +99,10 @@ namespace perideal
       run() override
       {
         do_initial_timestep();
-        while (!do_timestep())
-          ;
+        // A checkpoint of a stage's last step continues with the next stage.
+        if (!(counted ? step >= n_steps : time >= access->deck.solver.final_time))
+          while (!do_timestep())
+            ;
         finish();
       }
 
@@ -142,6 +145,10 @@ namespace perideal
       /// The progress line every 10% or 30 s.
       void
       report_progress(const bool last);
+      void
+      save_state(CheckpointWriter &out) const override;
+      void
+      load_state(CheckpointReader &in) override;
 
       double fixed_dt = 0, safety_factor = 0.8;
 
@@ -189,13 +196,24 @@ namespace perideal
           record.dt = (solver.final_time - solver.initial_time) / n_steps;
         }
       access->stop_if_interrupted_in_setup();
-      access->post.output.initialize(comm);
-
-      conditions.apply_initial_conditions(solver.initial_time);
-      access->evaluate_initial_state();
-      access->record_initial_state(n_steps, solver.initial_time);
-      for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
-        conditions.constraint_force[c] = state.f(conditions.constraints[c].dof);
+      const bool restart = !access->restart.empty(), continues = access->continues;
+      if (restart || !continues)
+        access->post.output.initialize(comm);
+      // Bonds break in the force evaluations (an implicit solver before may have stopped that).
+      access->model.breaking_allowed = true;
+      if (!continues)
+        conditions.apply_initial_conditions(solver.initial_time);
+      if (!restart)
+        {
+          // A stage that continues starts from the forces the one before left.
+          if (!continues)
+            {
+              access->evaluate_initial_state();
+              access->record_initial_state(n_steps, solver.initial_time);
+            }
+          for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
+            conditions.constraint_force[c] = state.f(conditions.constraints[c].dof);
+        }
       u_previous.resize(state.size());
       v_previous.resize(state.size());
       // The loads at the start of a step (constant loads: the same as at its end).
@@ -223,6 +241,55 @@ namespace perideal
       spacing     = access->discretization.point_spacing();
       speed       = access->model.fastest_bonded_speed();
       fast_warned = false;
+      if (restart)
+        {
+          // The state, the record and where the loop stood; the loads of
+          // the checkpoint's time are the next step's start.
+          restore_checkpoint();
+          AssertThrow(!access->last_stage || (counted ? step < n_steps : time < solver.final_time),
+                      ExcMessage("--restart '" + access->restart + "': the checkpoint is of the run's last step (" +
+                                 std::to_string(step) + ", t = " + sci(time, 6) + "): nothing is left to run"));
+          if (conditions.has_loads())
+            {
+              conditions.evaluate_loads(time);
+              for (unsigned int k = 0; k < load_previous.size(); ++k)
+                load_previous[k] = conditions.load(k);
+            }
+        }
+    }
+
+    void
+    Verlet::save_state(CheckpointWriter &out) const
+    {
+      out.section("Verlet");
+      out.put(n_steps);
+      out.put(step);
+      out.put(counted);
+      out.put(adaptive);
+      out.put(time);
+      out.put(dt_elastic);
+      out.put(speed);
+      out.put(fast_warned);
+      out.put(contact_warned);
+      out.put(last_percent);
+    }
+
+    void
+    Verlet::load_state(CheckpointReader &in)
+    {
+      in.section("Verlet");
+      const unsigned int steps = in.get<unsigned int>();
+      in.expect(steps == n_steps, "the run has " + std::to_string(n_steps) + " steps, the checkpoint's " +
+                                    std::to_string(steps));
+      in.get(step);
+      in.get(counted);
+      in.get(adaptive);
+      in.get(time);
+      in.get(dt_elastic);
+      in.get(speed);
+      in.get(fast_warned);
+      in.get(contact_warned);
+      in.get(last_percent);
     }
 
     bool
@@ -354,13 +421,6 @@ namespace perideal
       if (output_step)
         post.write_output(step, time, post.output.is_globals_step(step, steps_now),
                           post.output.is_field_step(step, steps_now));
-      if (sums[4] > 0)
-        {
-          const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          dt                        = dt_elastic; // for the summary
-          access->stop_interrupted(step, time, steps_now, loop_seconds);
-        }
-
       if (adaptive || !fast_warned)
         speed = model.fastest_bonded_speed();
       if (!adaptive && !fast_warned && speed * dt > max_spacing_fraction * spacing)
@@ -381,6 +441,14 @@ namespace perideal
                                     sci(contact->largest_step_fraction, 3) +
                                     " contact radii per step: contact acts late and bodies interpenetrate (or pass "
                                     "through thin ones); lower the time step (Solver/Verlet/Fixed dt or Safety factor)");
+        }
+      // The step is complete: what a continued run starts from.
+      checkpoint_step(step, time, sums[4] > 0);
+      if (sums[4] > 0)
+        {
+          const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          dt                        = dt_elastic; // for the summary
+          access->stop_interrupted(step, time, steps_now, loop_seconds, checkpoint_note);
         }
       report_progress(last);
       return last;
@@ -461,6 +529,8 @@ namespace perideal
     void
     Verlet::finish()
     {
+      finished_steps = step;
+      finished_time  = time;
       const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       access->record.dt         = dt_elastic; // for the summary
       Postprocess &post         = access->post;

@@ -156,6 +156,24 @@ function(perideal_output_test name np)
     ${PERIDEAL_RUN} output ${checks} -- ${T_COMMAND})
 endfunction()
 
+# perideal_restart_test(NAME NP BASE_NAME PRM [SIGNAL sig | FIRST prm0]): pd_app
+# on NP ranks on PRM to the end, then continued with --restart from its last
+# checkpoint (with SIGNAL: from the checkpoint a run stopped by the signal
+# wrote; with FIRST: from the checkpoint of PRM0, PRM's first solver alone): the globals CSV, the .pvd and the last step's pieces equal
+# the uninterrupted run's byte for byte. Runner mode 'restart'.
+function(perideal_restart_test name np base prm)
+  cmake_parse_arguments(T "" "SIGNAL;FIRST" "" ${ARGN})
+  perideal_pd_app_command(run ${np})
+  set(signal)
+  if(T_SIGNAL)
+    set(signal --signal ${T_SIGNAL})
+  elseif(T_FIRST)
+    set(signal --first ${T_FIRST})
+  endif()
+  perideal_add_test(${perideal_test_group}.${name}.np${np} ${np} 180
+    ${PERIDEAL_RUN} restart ${signal} ${base} ${run} ${prm})
+endfunction()
+
 # perideal_interrupt_test(NAME NP SIGNAL BASE_NAME PRM [STALLED_STDOUT]):
 # pd_app on NP ranks on PRM, stopped by SIGNAL (TERM, INT, KILL) once its
 # globals CSV output/BASE_NAME.globals.csv has rows; STALLED_STDOUT: once it

@@ -57,6 +57,25 @@
 #   run is blocked writing to it. Standard error must then hold the summary.
 #   Bounded: 60 s for the first rows (and the block), 20 s for the stop.
 #
+# MODE restart [--signal SIGNAL | --first PRM0] BASE_NAME COMMAND [ARGUMENTS...] PRM
+#   a checkpoint and its continuation equal the uninterrupted run. COMMAND
+#   (pd_app, or mpirun -np N pd_app) on PRM (its last argument, whose Output
+#   writes fields and globals into output/ under BASE_NAME) runs, in a new
+#   empty directory:
+#   1. to the end: the reference (kept as reference/);
+#   2. without --signal, the reference's last checkpoint (PRM's
+#      Output/Checkpoint/Frequency) is the start; with --signal, PRM runs
+#      again and is stopped by SIGNAL once its CSV has 3 rows: it must exit
+#      with the 'Error: interrupted' line and leave output/BASE_NAME.checkpoint;
+#   3. COMMAND --restart <that checkpoint> PRM runs to the end and says
+#      'Restarted from'; then its globals CSV, .pvd and the last step's .vtu
+#      pieces must equal the reference's byte for byte.
+#   With --first PRM0 (PRM0: PRM's first solver alone, Solver stages left
+#   out, its checkpoint at its last step), step 2 runs PRM0 instead: a run
+#   of solver stages equals the same solvers run by hand one after the other.
+#   With --signal, before 3: the stop's checkpoint, with one byte of rank 0's
+#   file flipped, must be refused with an Error naming the CRC-32 check.
+#
 # MODE check --workdir DIR [OPTIONS] -- COMMAND [ARGUMENTS...] [--- CHECK [ARGUMENTS...]]
 #   runs COMMAND in DIR (emptied first), keeps its output in DIR/run.stdout
 #   and DIR/run.stderr, then:
@@ -352,6 +371,99 @@ mode_interrupt() {
   echo "PASS: stopped at step $step on SIG$signal, exit code $rc, the output consistent"
 }
 
+# ----------------------------------------------------------------- restart
+mode_restart() {
+  local signal= first=
+  [[ ${1:-} == --signal ]] && { signal=$2; shift 2; }
+  [[ ${1:-} == --first ]] && { first=$2; shift 2; }
+  [[ $# -ge 3 ]] || usage
+  local base=$1
+  shift
+  local prm=${*: -1}
+  local command=("${@:1:$#-1}")
+  run=$(mktemp -d "${TMPDIR:-/tmp}/restart.XXXXXX")
+  pid=
+  cleanup() {
+    [[ -n $pid ]] && kill -KILL "$pid" 2>/dev/null
+    rm -rf "$run"
+  }
+  trap cleanup EXIT
+  cd "$run" || exit 2
+  fail() {
+    for f in out.txt err.txt; do
+      [[ -f $f ]] && { echo "--- $f (tail):"; tail -n 20 "$f"; }
+    done
+    echo "FAIL: $*"
+    exit 1
+  }
+  local rc i csv=output/$base.globals.csv checkpoint
+  "${command[@]}" "$prm" >out.txt 2>err.txt || fail "the uninterrupted run failed (exit code $?)"
+  if [[ -n $first ]]; then
+    mv output reference
+    "${command[@]}" "$first" >first.out 2>first.err || fail "the run of the first solver alone failed"
+    [[ -f output/$base.checkpoint/checkpoint.txt ]] || fail "the first solver's run wrote no checkpoint"
+    mv output/$base.checkpoint checkpoint
+    checkpoint=checkpoint
+    echo "the first solver's run: checkpoint of step $(sed -n 's/^step //p' checkpoint/checkpoint.txt)"
+    rm -rf output
+  elif [[ -z $signal ]]; then
+    [[ -f output/$base.checkpoint/checkpoint.txt ]] || fail "the run wrote no checkpoint"
+    mv output/$base.checkpoint checkpoint
+    checkpoint=checkpoint
+    echo "the run's last checkpoint: step $(sed -n 's/^step //p' checkpoint/checkpoint.txt)"
+    mv output reference
+  else
+    mv output reference
+    "${command[@]}" "$prm" >out.txt 2>err.txt &
+    pid=$!
+    for ((i = 0; i < 600; ++i)); do
+      [[ -f $csv && $(wc -l <"$csv") -ge 3 ]] && break
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.05
+    done
+    kill -0 "$pid" 2>/dev/null || fail "the run ended before the signal"
+    kill -"$signal" "$pid"
+    for ((i = 0; i < 400; ++i)); do
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.05
+    done
+    kill -0 "$pid" 2>/dev/null && fail "still running 20 s after SIG$signal"
+    wait "$pid"
+    rc=$?
+    pid=
+    [[ $rc -ne 0 ]] || fail "exit code 0 after SIG$signal"
+    grep -qE '^Error: interrupted by SIG[A-Z]+ at step [0-9]+' err.txt || fail "no 'Error: interrupted' line"
+    checkpoint=output/$base.checkpoint
+    [[ -f $checkpoint/checkpoint.txt ]] || fail "the stop left no checkpoint"
+    echo "stopped by SIG$signal; checkpoint of step $(sed -n 's/^step //p' $checkpoint/checkpoint.txt)"
+    # A damaged checkpoint is refused, and names what is wrong.
+    cp -r "$checkpoint" damaged
+    local byte
+    byte=$(od -An -tu1 -j100 -N1 damaged/rank-0000.bin | tr -d ' ')
+    printf "\\x$(printf %02x $((byte ^ 255)))" | dd of=damaged/rank-0000.bin bs=1 seek=100 conv=notrunc status=none
+    if "${command[@]}" --restart damaged "$prm" >damaged.out 2>damaged.err; then
+      fail "a checkpoint with a flipped byte was accepted"
+    fi
+    grep -q "^Error: --restart 'damaged': 'damaged/rank-0000.bin' fails its CRC-32 check" damaged.err ||
+      { cat damaged.err; fail "no CRC-32 error for the damaged checkpoint"; }
+  fi
+  "${command[@]}" --restart "$checkpoint" "$prm" >out.txt 2>err.txt || fail "the continued run failed"
+  grep -q "^Restarted from '$checkpoint': step [0-9]*" out.txt || fail "no 'Restarted from' line"
+  cmp "reference/$base.globals.csv" "$csv" || fail "the continued globals CSV differs from the uninterrupted run's"
+  # (deal.II's .pvd carries the time of its writing in a comment)
+  cmp <(grep -v 'generated by the deal.II library' "reference/$base.pvd") \
+    <(grep -v 'generated by the deal.II library' "output/$base.pvd") ||
+    fail "the continued .pvd differs from the uninterrupted run's"
+  local last pieces p
+  last=$(grep -o "file=\"[^\"]*\.pvtu\"" "reference/$base.pvd" | tail -n 1 | sed -E 's/file="(.*)"/\1/')
+  [[ -n $last ]] || fail "no .pvtu in the reference's .pvd"
+  pieces=$(grep -o 'Source="[^"]*"' "reference/$last" | sed -E 's/Source="(.*)"/\1/')
+  for p in $pieces; do
+    cmp "reference/$p" "output/$p" || fail "the last step's piece $p differs"
+  done
+  echo "PASS: continued from $checkpoint: $(($(wc -l <"$csv") - 1)) globals rows, the .pvd and the last step's pieces ($last) equal the uninterrupted run's byte for byte"
+}
+
 # ----------------------------------------------------------------- check
 mode_check() {
   local workdir= expect=success regex= has_regex=0 stdout_regex= has_stdout_regex=0 prm=() source_dir=
@@ -487,6 +599,7 @@ case $mode in
   error) mode_error "$@" ;;
   output) mode_output "$@" ;;
   interrupt) mode_interrupt "$@" ;;
+  restart) mode_restart "$@" ;;
   check) mode_check "$@" ;;
   *) usage ;;
 esac

@@ -26,6 +26,8 @@
 
 namespace perideal
 {
+  class CheckpointWriter;
+  class CheckpointReader;
   class RegionCompute
   {
   public:
@@ -61,6 +63,12 @@ namespace perideal
     double                    rate_window = 0;
     std::vector<unsigned int> points;        // owned points in the region
     std::vector<unsigned int> nodes;         // owned FE DoFs in the region it uses (continuum blocks)
+
+    /// rate_of()'s rows (checkpoint.h).
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
 
   private:
     std::unique_ptr<PointQuantity> quantity;

@@ -73,6 +73,13 @@ namespace perideal
     double
     support_force(const Constraint &c) const;
 
+    /// The constraints' own state (checkpoint.h): the force of the last
+    /// step and a prescribed velocity's displacement.
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
+
     std::vector<BoundaryCondition> &conditions;
     std::vector<Constraint>         constraints;             // the prescribed DoFs, by number
     std::vector<std::uint8_t>       prescribed;              // per DoF: 1 if a constraint holds it

@@ -31,6 +31,9 @@
 
 namespace perideal
 {
+  class CheckpointWriter;
+  class CheckpointReader;
+
   using VectorType = dealii::LinearAlgebra::distributed::Vector<double>;
 
   enum class FieldUse
@@ -141,6 +144,14 @@ namespace perideal
 
     std::size_t
     memory_consumption() const;
+
+    /// The committed history (N) of every history field, point and bond
+    /// (checkpoint.h); load() sets NP1 = N, as after commit(). The other
+    /// uses are recomputed or constant.
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
 
   private:
     struct Entry

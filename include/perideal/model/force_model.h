@@ -142,6 +142,12 @@ namespace perideal
     /// bond changed since. Collective only with neglect.
     void
     restore_damage_state(const DamageState &from);
+    /// The bond damage, the neglected points and the models' committed
+    /// history (checkpoint.h). load() is collective with neglect.
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
     /// The strain energy that bond damage released at the current state:
     /// with the damage of @p before minus with that of now, summed over
     /// ranks (for continuous damage the energy released as d rose, to first

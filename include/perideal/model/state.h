@@ -29,6 +29,8 @@ namespace perideal
 {
   class ContinuumField;
   class Discretization;
+  class CheckpointWriter;
+  class CheckpointReader;
 
   class MechanicalState
   {
@@ -150,6 +152,13 @@ namespace perideal
     void
     set_velocity_zero();
 
+    /// u, v, f and a of every owned DoF (checkpoint.h); load() leaves the
+    /// ghosts to the caller (SimulatorAccess::update_ghosts()).
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
+
   private:
     unsigned int              n_point_entries = 0, n_fe = 0;
     const Discretization     *discretization  = nullptr;
@@ -189,6 +198,13 @@ namespace perideal
   /// Time step and energy bookkeeping of a run, and its warnings.
   struct RunRecord
   {
+    /// What a continued run needs of it (checkpoint.h): all but the
+    /// start-up figures.
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
+
     double       dt = 0, dt_stable = 0;
     double       external_work = 0, initial_energy = 0, last_strain_energy = 0, last_kinetic_energy = 0;
     double       dissipated_energy = 0; // released by broken bonds (ForceModel::released_energy)

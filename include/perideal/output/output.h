@@ -9,6 +9,7 @@
 
 #include <perideal/base/input.h>
 #include <perideal/material/field_store.h>
+#include <perideal/output/checkpoint.h>
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/la_parallel_vector.h>
@@ -99,6 +100,18 @@ namespace perideal
     write_globals(const std::vector<std::pair<std::string, double>> &row,
                   const MPI_Comm                                    comm);
 
+    /// The series so far: .pvd records and globals rows (checkpoint.h).
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
+    /// The kept parameters (keep_parameters()).
+    const std::string &
+    parameter_text() const
+    {
+      return parameters;
+    }
+
     std::string           directory = "output";
     std::string           base_name = "run";
     unsigned int          frequency = 0;
@@ -108,6 +121,7 @@ namespace perideal
     bool                  globals = true;
     bool                  fragments = false; // <base name>.fragments.csv at field steps
     bool                  double_precision = false; // Field precision = double: Float64 arrays
+    CheckpointParameters  checkpoint;               // Output/Checkpoint
 
   private:
     std::string                                 parameters;

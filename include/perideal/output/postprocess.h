@@ -53,7 +53,17 @@ namespace perideal
     void
     print_summary(const double loop_seconds, const unsigned int steps_done);
 
+    /// The output series, the computes' rates and the fragments so far
+    /// (checkpoint.h).
+    void
+    save(CheckpointWriter &out) const;
+    void
+    load(CheckpointReader &in);
+
     OutputWriter &output;
+    // The steps of the solvers before the running one (Solver stages): the
+    // integrators count their own steps, the files and rows go on.
+    unsigned int step_offset = 0;
 
   private:
     /// What computes and output fields read, now.

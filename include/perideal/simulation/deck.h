@@ -31,7 +31,7 @@ namespace perideal
   struct DeckNames
   {
     std::vector<std::string>           regions, bond_filters, initial_damage, blocks, conditions, computes,
-      contact_interactions;
+      contact_interactions, solver_stages;
     std::map<std::string, std::string> materials, damage_models, contact_models; // name -> model ("" unknown yet)
   };
 
@@ -52,6 +52,21 @@ namespace perideal
     double             energy_growth_limit = 0;
     bool               track_dissipation   = true; // Solver/Track dissipated energy
     ImplicitParameters implicit;                     // Solver/Implicit: Newton and the linear solvers
+  };
+
+  /// A solver that runs after the one of Solver (Solver stages/NAME;
+  /// Peridigm's Solver2, Solver3, ...): it starts where the one before ended,
+  /// from its state, and continues its step numbers and output series.
+  struct SolverStage
+  {
+    SolverStage();
+    SolverStage(SolverStage &&) noexcept;
+    ~SolverStage();
+
+    std::string                     name;
+    SolverParameters                solver; // initial_time: set when the stage starts
+    std::unique_ptr<TimeIntegrator> integrator;
+    int output_frequency = -1, globals_frequency = -1; // -1: Output's
   };
 
   /// Coupling with continuum blocks (doc/coupling.md).
@@ -84,8 +99,10 @@ namespace perideal
     ContactParameters                              contact;
     std::vector<BoundaryCondition>                 conditions;
     std::vector<RegionCompute>                     computes;
+    // The running solver: Solver's (Solver/Type, parsed), then each of stages in turn.
     SolverParameters                               solver;
-    std::unique_ptr<TimeIntegrator>                integrator; // the one of Solver/Type, parsed
+    std::unique_ptr<TimeIntegrator>                integrator;
+    std::vector<SolverStage>                       stages; // Solver stages, in the order of their Names
     OutputWriter                                   output;
   };
 

@@ -34,9 +34,10 @@ namespace perideal
     void
     dry_run();
 
-    /// Sets up and integrates to the final time.
+    /// Sets up and integrates to the final time; with @p restart (a
+    /// checkpoint's directory, pd_app --restart) from the checkpoint's step.
     void
-    run();
+    run(const std::string &restart = "");
 
     /// The parts (after run() or dry_run()): what the integrator sees, and a
     /// program that drives or inspects a run.
@@ -48,8 +49,15 @@ namespace perideal
     /// coupling, conditions, computes, the integrator's time step.
     void
     setup(const bool dry_run_mode);
+    /// Makes Solver stages' @p k-th solver the running one, from time @p start.
+    void
+    start_stage(const unsigned int k, const double start);
 
     MPI_Comm                   comm;
+    std::string                restart; // run(): the checkpoint's directory, or empty
+    unsigned int               stage = 0; // the running solver: 0 Solver, k Solver stages' k-th
+    bool                       continues = false;
+    unsigned int               base_frequency = 0, base_globals = 0; // Output's, for the stages without their own
     dealii::ConditionalOStream pcout;
     dealii::TimerOutput        timer;
     Deck                       deck;

@@ -164,8 +164,18 @@ namespace perideal
     void
     start_loop();
 
+    /// With pd_app --restart: restores the run (restore_checkpoint()) and
+    /// sets first_step; stops if nothing is left to run. Collective.
+    void
+    restore_run(const unsigned int n_steps);
+    void
+    save_state(CheckpointWriter &out) const override;
+    void
+    load_state(CheckpointReader &in) override;
+
     std::unique_ptr<ImplicitSolver> implicit_solver;
     unsigned int                    total_newton = 0, total_linear = 0, total_solves = 0;
+    unsigned int                    first_step = 1; // the loop's first step (after a restart, the checkpoint's + 1)
 
   private:
     /// What a cut returns to; kept, so that a step allocates nothing.
@@ -181,6 +191,8 @@ namespace perideal
     restore(const SubStepStart &from) const;
 
     std::chrono::steady_clock::time_point start;
+    unsigned int completed_step = 0; // the last step advance() completed, and its time
+    double       completed_time = 0;
     double       step_fraction = 1; // of a step, the sub-steps' length (Adaptive steps)
     SubStepStart sub_step_start;
   };

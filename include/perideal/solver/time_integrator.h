@@ -14,6 +14,7 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 
+#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +29,8 @@ namespace perideal
   class ConditionSet;
   class Postprocess;
   class ImplicitSolver;
+  class CheckpointWriter;
+  class CheckpointReader;
 
   /// What an integrator (and the postprocessing) may reach. Collective
   /// functions are marked so.
@@ -45,6 +48,13 @@ namespace perideal
     Postprocess                &post;
     MechanicalState            &state;
     RunRecord                  &record;
+    std::string                 restart; // pd_app --restart: the checkpoint's directory; empty: a fresh run
+    // Solver stages: the running solver's index (0: Solver), whether it
+    // continues the state of one before it (no initial conditions, no step 0,
+    // the output series goes on), and whether another follows.
+    unsigned int stage      = 0;
+    bool         continues  = false;
+    bool         last_stage = true;
 
     /// The FE field at the virtual points, then the displacement's ghosts.
     void
@@ -61,10 +71,20 @@ namespace perideal
     stop_if_interrupted_in_setup() const;
     /// Collective, after a completed @p step of a run of @p n_steps: writes
     /// it where the output writes anything (what its own output did not write
-    /// already), prints the summary and throws Interrupted.
+    /// already), prints the summary and throws Interrupted; @p checkpoint_note
+    /// (a line, or empty) follows the error line.
     [[noreturn]] void
     stop_interrupted(const unsigned int step, const double time, const unsigned int n_steps,
-                     const double loop_seconds) const;
+                     const double loop_seconds, const std::string &checkpoint_note = "") const;
+    /// Every part's state for a checkpoint (checkpoint.h): a signature of
+    /// the discretization, the mechanical state, the force model, the
+    /// conditions, the postprocessing, the record.
+    void
+    save_parts(CheckpointWriter &out) const;
+    /// Reads them back, after checking collectively that this run built the
+    /// same discretization, and updates the ghosts. Collective.
+    void
+    load_parts(CheckpointReader &in) const;
   };
 
   class TimeIntegrator
@@ -86,7 +106,8 @@ namespace perideal
     void
     initialize(const SimulatorAccess &simulator)
     {
-      access = std::make_unique<SimulatorAccess>(simulator);
+      access          = std::make_unique<SimulatorAccess>(simulator);
+      last_checkpoint = std::chrono::steady_clock::now();
     }
 
     /// After the model's set-up: the time step (record.dt) and its warnings.
@@ -126,8 +147,48 @@ namespace perideal
     virtual void
     add_globals(std::vector<std::pair<std::string, double>> &) const
     {}
+    /// After run(): the steps it took (counted from its first) and the time
+    /// it ended at, where a following solver starts.
+    unsigned int
+    steps_done() const
+    {
+      return finished_steps;
+    }
+    double
+    end_time() const
+    {
+      return finished_time;
+    }
 
   protected:
+    /// After step @p step, accepted and written, at @p time: a checkpoint if
+    /// Output/Checkpoint asks for one now (every Frequency steps, Minutes
+    /// after the last, or on a signal: @p signal, known to every rank).
+    /// Sets checkpoint_note. Collective.
+    void
+    checkpoint_step(const unsigned int step, const double time, const bool signal);
+    /// With pd_app --restart: restores every part and this integrator
+    /// (load_state()) from the checkpoint and returns true; false in a fresh
+    /// run. Call after the initial conditions are applied, in place of the
+    /// initial state's evaluation. Collective.
+    bool
+    restore_checkpoint();
+    /// The integrator's place in the run (its step, time, and what it keeps
+    /// from one step to the next), for checkpoint_step() and restore_checkpoint().
+    virtual void
+    save_state(CheckpointWriter &) const
+    {}
+    virtual void
+    load_state(CheckpointReader &)
+    {}
+
     std::unique_ptr<SimulatorAccess> access;
+    unsigned int                     finished_steps = 0; // set by run(): steps_done(), end_time()
+    double                           finished_time  = 0;
+    // The line after the stop message when checkpoint_step() wrote a checkpoint of this step.
+    std::string checkpoint_note;
+
+  private:
+    std::chrono::steady_clock::time_point last_checkpoint; // Output/Checkpoint/Minutes
   };
 } // namespace perideal
