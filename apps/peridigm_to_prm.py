@@ -821,10 +821,22 @@ class Converter:
                             "Gmsh .msh files): convert '%s' to Gmsh (e.g. meshio, or mesh the geometry again "
                             "with Recombine) and give it with --mesh, its node sets with --node-set" % mesh)
         elif dtype == "Text File":
-            mesh = self.text(d, "Input Mesh File")
-            self.cannot(d.children.get("Type"), "PeriDeal has no point-cloud reader yet: it makes one "
-                        "point per cell of a mesh (Box, Cylinder shell, Gmsh), so the points of '%s' "
-                        "(x y z block volume per line) cannot be read; mesh the body instead" % mesh)
+            mesh = self.text(d, "Input Mesh File", required=True)
+            self.disc_type = "Text file"
+            out.set("Type", "Text file", "Peridigm's Text File: x y z block volume per point.")
+            if mesh is not None:
+                t = out.sub("Text file")
+                here = os.path.join(os.path.dirname(os.path.abspath(self.deck)), mesh)
+                if not os.path.isabs(mesh) and os.path.isfile(here):
+                    t.comment("'%s' beside the deck; its block N is material id N\n(Blocks/*/Material ids)." % mesh)
+                    mesh = os.path.normpath(here)
+                else:
+                    t.comment("Its block N is material id N (Blocks/*/Material ids); a relative\npath is taken "
+                              "from the directory pd_app starts in.")
+                    if not os.path.isfile(mesh):
+                        self.warn(d.children.get("Input Mesh File"), "the point file '%s' is not found (neither "
+                                  "beside the deck nor from here)" % mesh)
+                t.set("File", mesh)
         elif dtype is not None:
             self.cannot(d.children.get("Type"), "the discretization type '%s' has no PeriDeal equivalent" % dtype)
         if filters is not None:
@@ -1162,18 +1174,21 @@ class Converter:
                     self.cannot(c.children.get("Block Names") or c,
                                 "PdQuickGrid makes one block, block_1, of every point: '%s'"
                                 % " ".join(dnames))
-            elif self.disc_type == "Gmsh":
+            elif self.disc_type in ("Gmsh", "Text file"):
                 ids = []
                 for dn in dnames:
                     m = re.fullmatch(r"block_(\d+)", dn)
                     if not m:
-                        self.cannot(c.children.get("Block Names"), "the Exodus block '%s' is not named block_N, "
-                                    "so its Gmsh physical group is unknown" % dn)
+                        self.cannot(c.children.get("Block Names"), "the block '%s' is not named block_N, so its "
+                                    "%s is unknown" % (dn, "Gmsh physical group" if self.disc_type == "Gmsh"
+                                                       else "block number in the text file"))
                     else:
                         ids.append(m.group(1))
                         self.block_ids[dn] = m.group(1)
                 if ids:
-                    s.set("Material ids", ", ".join(ids), "Exodus %s: Gmsh volume physical group%s %s."
+                    s.set("Material ids", ", ".join(ids), ("Exodus %s: Gmsh volume physical group%s %s."
+                                                           if self.disc_type == "Gmsh" else
+                                                           "%s: block%s %s of the text file.")
                           % (" ".join(dnames), "s" if len(ids) > 1 else "", ", ".join(ids)))
         out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(pnames)])
         self.peridigm_blocks = entries
@@ -1507,7 +1522,9 @@ class Converter:
             name = block
             self.add_region(name, "Physical group", [("Physical group", self.block_ids[block]),
                                                      ("Physical group dimension", "3")],
-                            "Exodus %s: the cells of Gmsh volume physical group %s." % (block, self.block_ids[block]))
+                            ("Exodus %s: the cells of Gmsh volume physical group %s." if self.disc_type == "Gmsh" else
+                             "%s: the points of block (material id) %s of the text file.")
+                            % (block, self.block_ids[block]))
             return name
         if len(entries) == 1 and block in entries[0][1] and len(entries[0][1]) == 1:
             return "All"
