@@ -163,6 +163,49 @@ namespace perideal
       return text;
     }
 
+    /// checkpoint.txt's text into @p header; false if it is not a whole
+    /// header of this format.
+    bool
+    parse_header(const std::string &header_text, CheckpointHeader &header)
+    {
+      std::istringstream in(header_text);
+      std::string        word, line;
+      bool               ok = static_cast<bool>(std::getline(in, line)) && line.rfind("PeriDeal checkpoint ", 0) == 0;
+      if (ok)
+        header.format = static_cast<unsigned int>(std::strtoul(line.c_str() + 20, nullptr, 10));
+      ok = ok && header.format == format_version;
+      std::string time_text;
+      ok = ok && (in >> word >> header.step) && word == "step";
+      ok = ok && (in >> word >> time_text) && word == "time";
+      if (ok)
+        header.time = std::strtod(time_text.c_str(), nullptr);
+      std::string start_word, start_text;
+      ok = ok && (in >> word >> header.stage >> start_word >> start_text) && word == "stage" && start_word == "start";
+      if (ok)
+        header.stage_start = std::strtod(start_text.c_str(), nullptr);
+      ok = ok && (in >> word >> header.ranks) && word == "ranks" && header.ranks > 0 && header.ranks < 1u << 24;
+      for (unsigned int r = 0; ok && r < header.ranks; ++r)
+        {
+          unsigned int  number = 0;
+          std::string   w2, w3;
+          std::uint64_t size = 0;
+          std::uint32_t c    = 0;
+          ok = (in >> word >> number >> w2 >> size >> w3 >> c) && word == "rank" && number == r && w2 == "bytes" &&
+               w3 == "crc32";
+          header.sizes.push_back(size);
+          header.crc32s.push_back(c);
+        }
+      ok = ok && (in >> word) && word == "parameters";
+      if (ok)
+        {
+          std::getline(in, line);
+          std::ostringstream rest;
+          rest << in.rdbuf();
+          header.parameters = rest.str();
+        }
+      return ok;
+    }
+
     std::string
     read_file(const std::string &name, bool &ok)
     {
@@ -366,17 +409,10 @@ namespace perideal
     CheckpointStage found;
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
-        std::ifstream in(directory + "/checkpoint.txt");
-        std::string   line;
-        while (std::getline(in, line))
-          if (line.rfind("stage ", 0) == 0)
-            {
-              std::istringstream words(line);
-              std::string        w1, w2, start;
-              if (words >> w1 >> found.stage >> w2 >> start)
-                found.start = std::strtod(start.c_str(), nullptr);
-              break;
-            }
+        bool             ok = false;
+        CheckpointHeader header;
+        if (parse_header(read_file(directory + "/checkpoint.txt", ok), header) && ok)
+          found = {header.stage, header.stage_start};
       }
     found.stage = Utilities::MPI::broadcast(comm, found.stage, 0);
     found.start = Utilities::MPI::broadcast(comm, found.start, 0);
@@ -416,41 +452,7 @@ namespace perideal
     AssertThrow(problem.empty(), ExcMessage(where + problem));
     header_text = Utilities::MPI::broadcast(comm, header_text, 0);
     {
-      std::istringstream in(header_text);
-      std::string        word, line;
-      bool               ok = static_cast<bool>(std::getline(in, line)) && line.rfind("PeriDeal checkpoint ", 0) == 0;
-      if (ok)
-        header.format = std::stoul(line.substr(20));
-      ok = ok && header.format == format_version;
-      std::string time_text;
-      ok = ok && (in >> word >> header.step) && word == "step";
-      ok = ok && (in >> word >> time_text) && word == "time";
-      if (ok)
-        header.time = std::strtod(time_text.c_str(), nullptr);
-      std::string start_word, start_text;
-      ok = ok && (in >> word >> header.stage >> start_word >> start_text) && word == "stage" && start_word == "start";
-      if (ok)
-        header.stage_start = std::strtod(start_text.c_str(), nullptr);
-      ok = ok && (in >> word >> header.ranks) && word == "ranks" && header.ranks > 0 && header.ranks < 1u << 24;
-      for (unsigned int r = 0; ok && r < header.ranks; ++r)
-        {
-          unsigned int  number = 0;
-          std::string   w2, w3;
-          std::uint64_t size = 0;
-          std::uint32_t c    = 0;
-          ok = (in >> word >> number >> w2 >> size >> w3 >> c) && word == "rank" && number == r && w2 == "bytes" &&
-               w3 == "crc32";
-          header.sizes.push_back(size);
-          header.crc32s.push_back(c);
-        }
-      ok = ok && (in >> word) && word == "parameters";
-      if (ok)
-        {
-          std::getline(in, line);
-          std::ostringstream rest;
-          rest << in.rdbuf();
-          header.parameters = rest.str();
-        }
+      const bool ok = parse_header(header_text, header);
       AssertThrow(ok, ExcMessage(where + "checkpoint.txt is damaged or of another format (this PeriDeal reads "
                                          "format " +
                                  std::to_string(format_version) + ")"));

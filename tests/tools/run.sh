@@ -209,6 +209,19 @@ mode_output() {
   echo "PASS"
 }
 
+# enter_scratch NAME: cd into a new temporary directory, removed at exit
+# together with the background run $pid, if one is still going.
+enter_scratch() {
+  run=$(mktemp -d "${TMPDIR:-/tmp}/$1.XXXXXX")
+  pid=
+  cleanup() {
+    [[ -n $pid ]] && kill -KILL "$pid" 2>/dev/null
+    rm -rf "$run"
+  }
+  trap cleanup EXIT
+  cd "$run" || exit 2
+}
+
 # ------------------------------------------------------------- interrupt
 mode_interrupt() {
   local stalled=
@@ -217,14 +230,7 @@ mode_interrupt() {
   local signal=$1 base=$2
   shift 2
 
-  run=$(mktemp -d "${TMPDIR:-/tmp}/interrupt.XXXXXX")
-  pid=
-  cleanup() {
-    [[ -n $pid ]] && kill -KILL "$pid" 2>/dev/null
-    rm -rf "$run"
-  }
-  trap cleanup EXIT
-  cd "$run" || exit 2
+  enter_scratch interrupt
   fail() {
     echo "--- standard output (tail):"
     tail -n 30 "$run/out.txt" 2>/dev/null
@@ -381,14 +387,7 @@ mode_restart() {
   shift
   local prm=${*: -1}
   local command=("${@:1:$#-1}")
-  run=$(mktemp -d "${TMPDIR:-/tmp}/restart.XXXXXX")
-  pid=
-  cleanup() {
-    [[ -n $pid ]] && kill -KILL "$pid" 2>/dev/null
-    rm -rf "$run"
-  }
-  trap cleanup EXIT
-  cd "$run" || exit 2
+  enter_scratch restart
   fail() {
     for f in out.txt err.txt; do
       [[ -f $f ]] && { echo "--- $f (tail):"; tail -n 20 "$f"; }

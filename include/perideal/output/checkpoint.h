@@ -93,23 +93,13 @@ namespace perideal
     void
     put(const std::deque<std::pair<A, B>> &pairs)
     {
-      put<std::uint64_t>(pairs.size());
-      for (const auto &p : pairs)
-        {
-          put(p.first);
-          put(p.second);
-        }
+      put_pairs(pairs);
     }
     template <typename A, typename B>
     void
     put(const std::vector<std::pair<A, B>> &pairs)
     {
-      put<std::uint64_t>(pairs.size());
-      for (const auto &p : pairs)
-        {
-          put(p.first);
-          put(p.second);
-        }
+      put_pairs(pairs);
     }
     /// The locally owned entries of a distributed vector.
     template <typename Vector>
@@ -121,6 +111,19 @@ namespace perideal
     }
 
   private:
+    /// A container of pairs: its size, then each pair (std::pair is not
+    /// trivially copyable).
+    template <typename Pairs>
+    void
+    put_pairs(const Pairs &pairs)
+    {
+      put<std::uint64_t>(pairs.size());
+      for (const auto &p : pairs)
+        {
+          put(p.first);
+          put(p.second);
+        }
+    }
     void
     append(const void *data, const std::size_t size)
     {
@@ -197,23 +200,13 @@ namespace perideal
     void
     get(std::deque<std::pair<A, B>> &pairs)
     {
-      pairs.resize(count(1));
-      for (auto &p : pairs)
-        {
-          get(p.first);
-          get(p.second);
-        }
+      get_pairs(pairs);
     }
     template <typename A, typename B>
     void
     get(std::vector<std::pair<A, B>> &pairs)
     {
-      pairs.resize(count(1));
-      for (auto &p : pairs)
-        {
-          get(p.first);
-          get(p.second);
-        }
+      get_pairs(pairs);
     }
     /// Into the locally owned entries of @p v, which must have as many;
     /// the ghosts are not touched.
@@ -237,6 +230,17 @@ namespace perideal
     }
 
   private:
+    template <typename Pairs>
+    void
+    get_pairs(Pairs &pairs)
+    {
+      pairs.resize(count(1));
+      for (auto &p : pairs)
+        {
+          get(p.first);
+          get(p.second);
+        }
+    }
     /// A count written before @p element_size bytes each, checked against what is left.
     std::size_t
     count(const std::size_t element_size);
