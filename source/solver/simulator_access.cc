@@ -114,7 +114,7 @@ namespace perideal
     /// bonds and DoFs, and a hash of the points' reference positions, global
     /// numbers and families.
     std::array<std::uint64_t, 4>
-    signature(const SimulatorAccess &access)
+    compute_signature(const SimulatorAccess &access)
     {
       const PointCloud &cloud = access.discretization.cloud;
       const Bonds      &bonds = access.discretization.bonds;
@@ -130,7 +130,10 @@ namespace perideal
   SimulatorAccess::save_parts(CheckpointWriter &out) const
   {
     out.section("discretization");
-    out.put(signature(*this));
+    if (!signature_known)
+      signature = compute_signature(*this);
+    signature_known = true;
+    out.put(signature);
     state.save(out);
     model.save(out);
     conditions.save(out);
@@ -143,7 +146,7 @@ namespace perideal
   {
     in.section("discretization");
     const auto  there = in.get<std::array<std::uint64_t, 4>>();
-    const auto  here  = signature(*this);
+    const auto  here  = compute_signature(*this);
     std::string problem;
     if (there != here)
       problem = "rank " + std::to_string(Utilities::MPI::this_mpi_process(comm)) + " has " +

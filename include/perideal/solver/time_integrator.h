@@ -14,7 +14,9 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 
+#include <array>
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +57,10 @@ namespace perideal
     unsigned int stage      = 0;
     bool         continues  = false;
     bool         last_stage = true;
+    // save_parts(): the discretization's signature, hashed over every bond
+    // once (it does not change after set-up), not at every checkpoint.
+    mutable std::array<std::uint64_t, 4> signature{};
+    mutable bool                         signature_known = false;
 
     /// The FE field at the virtual points, then the displacement's ghosts.
     void
