@@ -268,6 +268,14 @@ namespace perideal
                       "digits). double: Float64, every digit of a double (a verification that reads the "
                       "fields back), in the same format (zlib-compressed VTU pieces, a .pvtu, the .pvd); "
                       "the files are about twice as large.");
+    prm.declare_entry("Field format", "vtu", Patterns::Selection("vtu|hdf5"),
+                      "vtu: a zlib-compressed .vtu piece per rank and step, a .pvtu per step, the .pvd series "
+                      "(values at the cells' vertices: nodal fields of FE cells as they are). hdf5, for runs of "
+                      "millions of points: one <base name>_<step>.h5 per step for all ranks (MPI-IO), the mesh "
+                      "once in <base name>_<step>.mesh.h5 (again only if the written cells change), and "
+                      "<base name>.xdmf, the series ParaView opens (XDMF Reader). Every field is cell-centred: "
+                      "a point's value, an FE cell's nodal fields at its centre. Uncompressed; Field precision "
+                      "applies to the fields and the node coordinates.");
     prm.declare_entry("Fragments", "false", Patterns::Bool(),
                       "Write <base name>.fragments.csv at every field output step (Frequency): a row per "
                       "fragment (the pieces the intact bonds hold together, numbered in the order of their "
@@ -288,6 +296,7 @@ namespace perideal
     globals   = prm.get_bool("Write globals");
     fragments = prm.get_bool("Fragments");
     double_precision = prm.get("Field precision") == "double";
+    hdf5             = prm.get("Field format") == "hdf5";
     checkpoint.parse_parameters(prm, directory, base_name);
     variables.clear();
     for (const auto &v : Utilities::split_string_list(prm.get("Variables"), ','))
@@ -337,6 +346,11 @@ namespace perideal
     out.section("output series");
     out.put(pvd_records);
     out.put(csv_lines);
+    out.put(xdmf_grids);
+    out.put(mesh_file);
+    out.put(mesh_cells_total);
+    out.put(mesh_nodes_total);
+    out.put(mesh_cells);
   }
 
   void
@@ -345,6 +359,11 @@ namespace perideal
     in.section("output series");
     in.get(pvd_records);
     in.get(csv_lines);
+    in.get(xdmf_grids);
+    in.get(mesh_file);
+    in.get(mesh_cells_total);
+    in.get(mesh_nodes_total);
+    in.get(mesh_cells);
   }
 
   void
@@ -368,6 +387,9 @@ namespace perideal
     AssertThrow(problem.empty(), ExcMessage("Output/Directory: " + problem));
     pvd_records.clear();
     csv_lines.clear();
+    xdmf_grids.clear();
+    mesh_file.clear();
+    mesh_cells.clear();
   }
 
   void
@@ -381,6 +403,8 @@ namespace perideal
   {
     if (cell_fields.empty() && vector_fields.empty())
       return;
+    if (hdf5)
+      return write_hdf5(dof_handler, written_cells, cell_fields, vector_fields, step, time, comm);
     CellDataOut data_out;
     data_out.attach_dof_handler(dof_handler);
     for (const auto &f : vector_fields)

@@ -6,6 +6,9 @@
 // the .pvtu and the .pvd follow (Simulation::write_output appends the CSV row
 // after them), so a run killed at any moment leaves the .pvd listing complete
 // steps only, no piece of another step, and a CSV never ahead of the .pvd.
+// Output/Field format = hdf5 writes HDF5 files and an XDMF series instead
+// (xdmf.cc), with the same ordering: a step's .h5 gets its name when
+// complete, then the .xdmf lists it.
 
 #include <perideal/base/input.h>
 #include <perideal/material/field_store.h>
@@ -15,6 +18,7 @@
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/lac/vector.h>
 
+#include <cstdint>
 #include <set>
 #include <string>
 #include <utility>
@@ -100,7 +104,7 @@ namespace perideal
     write_globals(const std::vector<std::pair<std::string, double>> &row,
                   const MPI_Comm                                    comm);
 
-    /// The series so far: .pvd records and globals rows (checkpoint.h).
+    /// The series so far: .pvd records, XDMF grids and globals rows (checkpoint.h).
     void
     save(CheckpointWriter &out) const;
     void
@@ -121,12 +125,33 @@ namespace perideal
     bool                  globals = true;
     bool                  fragments = false; // <base name>.fragments.csv at field steps
     bool                  double_precision = false; // Field precision = double: Float64 arrays
+    bool                  hdf5             = false; // Field format = hdf5: .h5 files and an .xdmf series
     CheckpointParameters  checkpoint;               // Output/Checkpoint
 
   private:
+    /// write_fields() for Field format = hdf5 (xdmf.cc): one <base
+    /// name>_<step>.h5 of cell-centred datasets for all ranks (MPI-IO), the
+    /// mesh in <base name>_<step>.mesh.h5 when the written cells change (the
+    /// first output step), <base name>.xdmf listing the steps. Collective.
+    void
+    write_hdf5(const dealii::DoFHandler<3>    &dof_handler,
+               const std::vector<bool>        &written_cells,
+               const std::vector<CellField>   &cell_fields,
+               const std::vector<VectorField> &vector_fields,
+               const unsigned int              step,
+               const double                    time,
+               const MPI_Comm                  comm);
+
     std::string                                 parameters;
     std::vector<std::pair<double, std::string>> pvd_records;
     std::vector<std::string>                    csv_lines;
+    // The XDMF series: a <Grid> per written step; the mesh file those of the
+    // last mesh refer to, its global cell and node counts, and this rank's
+    // written cells (active cell indices, in the file's order).
+    std::vector<std::string>  xdmf_grids;
+    std::string               mesh_file;
+    std::uint64_t             mesh_cells_total = 0, mesh_nodes_total = 0;
+    std::vector<unsigned int> mesh_cells;
   };
 
   /// Writes @p text to @p filename through a temporary file and a rename.
