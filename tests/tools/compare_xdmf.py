@@ -7,8 +7,9 @@ order, the same fields with the same components, and each HDF5 value (a
 cell's) equal to the mean of the VTU's 8 vertex values (the cell's value for
 a point; for a Q1 FE cell's nodal field the value at its centre) within
 RTOL of the field's largest magnitude. Checks that every dataset the .xdmf
-names exists with the dimensions and the number type it states, and that
-the datasets are Float64 or Float32 as --precision says.
+names exists with the dimensions and the number type it states, that the
+datasets are Float64 or Float32 as --precision says, and that a field of 9
+components is not declared a Tensor (ParaView would transpose it).
 
     compare_xdmf.py RUN.pvd RUN.xdmf [--rtol 1e-12] [--precision double|float]
 
@@ -55,6 +56,13 @@ def xdmf_steps(xdmf):
         for attribute in grid.findall("Attribute"):
             item = attribute.find("DataItem")
             fields[attribute.get("Name")] = dataset(folder, item, failures)
+            # ParaView's XDMF Reader transposes a Tensor or Matrix: the
+            # components would not be in the VTU files' (row-major) order.
+            columns = fields[attribute.get("Name")].shape[1]
+            expected = "Vector" if columns == 3 else "Scalar"
+            if attribute.get("AttributeType") != expected:
+                failures.append("'%s' (%d components) is declared %s, not %s"
+                                % (attribute.get("Name"), columns, attribute.get("AttributeType"), expected))
             types[attribute.get("Name")] = item.get("Precision")
         steps.append((time, nodes[topology], fields, types))
     return steps, failures
