@@ -359,6 +359,7 @@ namespace perideal
     in.section("output series");
     in.get(pvd_records);
     in.get(csv_lines);
+    csv_on_disk = false;
     in.get(xdmf_grids);
     in.get(mesh_file);
     in.get(mesh_cells_total);
@@ -387,6 +388,7 @@ namespace perideal
     AssertThrow(problem.empty(), ExcMessage("Output/Directory: " + problem));
     pvd_records.clear();
     csv_lines.clear();
+    csv_on_disk = false;
     xdmf_grids.clear();
     mesh_file.clear();
     mesh_cells.clear();
@@ -497,9 +499,23 @@ namespace perideal
     for (unsigned int c = 0; c < row.size(); ++c)
       line << (c ? "," : "") << row[c].second;
     csv_lines.push_back(line.str());
-    std::string text;
-    for (const auto &l : csv_lines)
-      text += l + "\n";
-    write_file_atomically(directory + "/" + base_name + ".globals.csv", text);
+    const std::string file = directory + "/" + base_name + ".globals.csv";
+    if (!csv_on_disk)
+      {
+        // The first row of this run (or of a restart): the rows so far, whole.
+        std::string text;
+        for (const auto &l : csv_lines)
+          text += l + "\n";
+        write_file_atomically(file, text);
+        csv_on_disk = true;
+        return;
+      }
+    // Then a row at a time, appended: rewriting the file at every row made
+    // a run's CSV cost grow with the square of its rows (40,000 rows: 190 s
+    // of a 194 s run).
+    std::ofstream out(file, std::ios::app | std::ios::binary);
+    out << csv_lines.back() << '\n';
+    out.close();
+    AssertThrow(out, ExcMessage("cannot append to the file '" + file + "'"));
   }
 } // namespace perideal

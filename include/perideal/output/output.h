@@ -1,7 +1,8 @@
 #pragma once
 // Field output (one .vtu per rank and output step, a .pvtu per step, a .pvd
-// series) and the CSV of global quantities. Files are written whole or not at
-// all: each goes to a temporary name and is renamed when complete; a step's
+// series) and the CSV of global quantities. Field files are written whole or
+// not at all: each goes to a temporary name and is renamed when complete (the
+// CSV grows by one appended row per output step); a step's
 // .vtu pieces get their names only when every rank has written its own, then
 // the .pvtu and the .pvd follow (Simulation::write_output appends the CSV row
 // after them), so a run killed at any moment leaves the .pvd listing complete
@@ -99,7 +100,9 @@ namespace perideal
                  const double                    time,
                  const MPI_Comm                  comm);
 
-    /// Appends a row to <directory>/<base name>.globals.csv (rank 0 writes).
+    /// Appends a row to <directory>/<base name>.globals.csv (rank 0 writes;
+    /// the first row of a run or a restart writes the file whole, with the
+    /// rows of the series so far).
     void
     write_globals(const std::vector<std::pair<std::string, double>> &row,
                   const MPI_Comm                                    comm);
@@ -145,6 +148,7 @@ namespace perideal
     std::string                                 parameters;
     std::vector<std::pair<double, std::string>> pvd_records;
     std::vector<std::string>                    csv_lines;
+    bool csv_on_disk = false; // the file holds csv_lines but the last: append
     // The XDMF series: a <Grid> per written step; the mesh file those of the
     // last mesh refer to, its global cell and node counts, and this rank's
     // written cells (active cell indices, in the file's order).
