@@ -1,7 +1,10 @@
 // Discretization/Type = Gmsh: a hexahedral .msh file, checked cell by cell
 // (gmsh_check.cc) before deal.II reads it, or a 2D quadrilateral one extruded
-// into hexahedra (a thin body).
+// into hexahedra (a thin body), or, with Cells as points, a 3D mesh of any
+// first-order cells read as one point each (gmsh_points.cc).
+#include <perideal/base/format.h>
 #include <perideal/geometry/gmsh_check.h>
+#include <perideal/geometry/gmsh_points.h>
 #include <perideal/geometry/scene.h>
 
 #include <deal.II/base/utilities.h>
@@ -29,7 +32,8 @@ namespace perideal
         prm.enter_subsection("Gmsh");
         prm.declare_entry("Mesh file", "", Patterns::Anything(), "A hexahedral .msh file (format 2.2 or 4.1, ASCII) of first-order hexahedra. "
                           "Other cells are refused, not converted (p4est and the refinement need hexahedra): "
-                          "a mesh of tetrahedra, prisms or pyramids, or a 2D mesh, stops with the counts; "
+                          "a mesh of tetrahedra, prisms or pyramids, or a 2D mesh, stops with the counts "
+                          "(for peridynamic blocks, Cells as points reads such a mesh as points); "
                           "Gmsh makes any geometry all-hexahedral with Mesh.SubdivisionAlgorithm = 2, or use "
                           "Transfinite Volume / Extrude with Recombine. Invalid hexahedra (a Jacobian that is "
                           "zero or changes sign in the cell: twisted, folded or flat cells) stop with the "
@@ -44,23 +48,43 @@ namespace perideal
                           "faces z = 0 and z = h get the next two free boundary ids.");
         prm.declare_entry("Extrusion layers", "1", Patterns::Integer(1),
                           "Extrusion thickness > 0: the layers of cells through the thickness.");
+        prm.declare_entry(
+          "Cells as points", "false", Patterns::Bool(),
+          "false: Mesh file is a mesh of first-order hexahedra (or a 2D one extruded), whose cells are the "
+          "mesh's. true: every first-order 3D element of Mesh file (tetrahedra, hexahedra, prisms and "
+          "pyramids, in any mix; ASCII, format 2.2 or 4.1) becomes one peridynamic point, at the "
+          "element's centroid and with its volume, computed exactly after Scale (volume-weighted, also for "
+          "hexahedra, prisms and pyramids with non-planar faces), and made into a cube of that volume as a "
+          "Text file point is: the way to use a tetrahedral or mixed mesh, which p4est cannot hold, for "
+          "peridynamic blocks. The element's volume physical group is its block (material id: Blocks/*/"
+          "Material ids, Regions of Type Physical group with dimension 3; 0 if it has none). Surfaces, "
+          "curves and points of the file are skipped: surface physical groups give no boundary ids, so "
+          "select boundaries with geometric regions (Box, Expression). Refused, naming the element's "
+          "number: second-order elements (mesh with Mesh.ElementOrder = 1), elements whose volume or "
+          "Jacobian is zero or negative (flat, inverted or tangled, or numbered against Gmsh's order), "
+          "and a file without 3D elements. Not with Extrusion thickness > 0.");
         prm.leave_subsection();
       }
 
       void
-      parse_parameters(ParameterHandler &prm, const double) override
+      parse_parameters(ParameterHandler &prm, const double scene_horizon) override
       {
         prm.enter_subsection("Gmsh");
-        mesh_file = prm.get("Mesh file");
-        scale     = prm.get_double("Scale");
-        thickness = prm.get_double("Extrusion thickness");
-        layers    = prm.get_integer("Extrusion layers");
+        mesh_file       = prm.get("Mesh file");
+        scale           = prm.get_double("Scale");
+        thickness       = prm.get_double("Extrusion thickness");
+        layers          = prm.get_integer("Extrusion layers");
+        cells_as_points = prm.get_bool("Cells as points");
         prm.leave_subsection();
+        horizon = scene_horizon;
 
         AssertThrow(!mesh_file.empty(), ExcMessage("Discretization/Gmsh/Mesh file is empty"));
         AssertThrow(std::isfinite(scale) && scale > 0,
                     ExcMessage("Discretization/Gmsh/Scale must be finite and positive, got " +
                                Utilities::to_string(scale)));
+        AssertThrow(!(cells_as_points && thickness > 0),
+                    ExcMessage("Discretization/Gmsh: Cells as points reads the cells of a 3D mesh, and Extrusion "
+                               "thickness extrudes a 2D mesh: set one of them"));
         // Not opened before its type is known: opening a FIFO blocks.
         std::error_code error;
         const auto      status = std::filesystem::status(mesh_file, error);
@@ -75,6 +99,23 @@ namespace perideal
       void
       create_triangulation(parallel::distributed::Triangulation<dim> &tria) const override
       {
+        if (cells_as_points)
+          {
+            std::vector<CloudPoint> points;
+            for (const auto &[tag, p] : gmsh_cells_as_points(mesh_file, scale))
+              {
+                const double edge = std::cbrt(p.volume);
+                for (unsigned int d = 0; d < dim; ++d)
+                  AssertThrow(resolvable(std::abs(p.x[d]), edge, horizon),
+                              ExcMessage("Discretization/Gmsh/Mesh file '" + mesh_file + "': element " +
+                                         std::to_string(tag) + " is too small (volume^(1/3) = " + sci(edge, 6) +
+                                         ") for its coordinates: points would not be told apart in double; "
+                                         "move the body near the origin"));
+                points.push_back(p);
+              }
+            create_point_cubes(tria, points);
+            return;
+          }
         check_gmsh_cells(mesh_file, scale, thickness > 0);
         std::ifstream in(mesh_file);
         try
@@ -117,11 +158,14 @@ namespace perideal
 
     private:
       std::string  mesh_file;
-      double       scale     = 1;
-      double       thickness = 0; // > 0: a 2D mesh extruded along z
-      unsigned int layers    = 1;
+      double       scale           = 1;
+      double       thickness       = 0; // > 0: a 2D mesh extruded along z
+      unsigned int layers          = 1;
+      bool         cells_as_points = false;
+      double       horizon         = 0; // for the points' resolution check
     };
   } // namespace
 
-  PERIDEAL_REGISTER(SceneGeometry, GmshScene, "Gmsh", "a hexahedral Gmsh mesh.")
+  PERIDEAL_REGISTER(SceneGeometry, GmshScene, "Gmsh",
+                    "a hexahedral Gmsh mesh (with Cells as points: any first-order 3D mesh, a point per cell).")
 } // namespace perideal

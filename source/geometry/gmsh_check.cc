@@ -5,17 +5,15 @@
 
 #include <perideal/base/input.h>
 #include <perideal/geometry/gmsh_check.h>
+#include <perideal/geometry/gmsh_file.h>
 
 #include <deal.II/base/point.h>
-#include <deal.II/base/tensor.h>
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
-#include <map>
 #include <sstream>
 #include <vector>
 
@@ -25,162 +23,6 @@ namespace perideal
 
   namespace
   {
-    // The cells of a Gmsh mesh, read from the file as the user wrote it,
-    // before deal.II reads it (deal.II inverts left-handed cells and reorders
-    // vertices; p4est crashes on cells that are not hexahedra).
-    struct GmshCells
-    {
-      std::map<long, Point<dim>> nodes;
-      struct Element
-      {
-        long              tag;
-        int               type;
-        std::vector<long> nodes;
-      };
-      std::vector<Element> elements;
-    };
-
-    std::vector<std::string>
-    tokens(const std::string &line)
-    {
-      std::istringstream       in(line);
-      std::vector<std::string> t;
-      for (std::string w; in >> w;)
-        t.push_back(w);
-      return t;
-    }
-
-    // Reads the nodes and elements of an ASCII .msh file, format 2.2 or 4.1.
-    // false if the file is something else (binary, another version, not
-    // well formed): deal.II's reader then says what is wrong, as before.
-    bool
-    read_gmsh_cells(const std::string &file, GmshCells &mesh)
-    {
-      std::ifstream in(file);
-      std::string   line;
-      int           major = 0;
-      auto next = [&in, &line]() -> bool {
-        while (std::getline(in, line))
-          if (!Utilities::trim(line).empty())
-            return true;
-        return false;
-      };
-      try
-        {
-          while (next())
-            {
-              const std::string section = Utilities::trim(line);
-              if (section == "$MeshFormat")
-                {
-                  if (!next())
-                    return false;
-                  const auto t = tokens(line);
-                  if (t.size() < 2 || t[1] != "0")
-                    return false; // binary
-                  major = static_cast<int>(std::stod(t[0]));
-                  if (major != 2 && major != 4)
-                    return false;
-                }
-              else if (section == "$Nodes" && major == 2)
-                {
-                  if (!next())
-                    return false;
-                  const long n = std::stol(line);
-                  for (long i = 0; i < n; ++i)
-                    {
-                      if (!next())
-                        return false;
-                      const auto t = tokens(line);
-                      if (t.size() < 4)
-                        return false;
-                      mesh.nodes[std::stol(t[0])] =
-                        Point<dim>(std::stod(t[1]), std::stod(t[2]), std::stod(t[3]));
-                    }
-                }
-              else if (section == "$Nodes" && major == 4)
-                {
-                  if (!next())
-                    return false;
-                  const long blocks = std::stol(tokens(line).at(0));
-                  for (long b = 0; b < blocks; ++b)
-                    {
-                      if (!next())
-                        return false;
-                      const auto head = tokens(line);
-                      const int  entity_dim = std::stoi(head.at(0)), parametric = std::stoi(head.at(2));
-                      const long n = std::stol(head.at(3));
-                      std::vector<long> tags(n);
-                      for (long i = 0; i < n; ++i)
-                        {
-                          if (!next())
-                            return false;
-                          tags[i] = std::stol(line);
-                        }
-                      for (long i = 0; i < n; ++i)
-                        {
-                          if (!next())
-                            return false;
-                          const auto t = tokens(line);
-                          if (t.size() < 3u + (parametric ? entity_dim : 0))
-                            return false;
-                          mesh.nodes[tags[i]] =
-                            Point<dim>(std::stod(t[0]), std::stod(t[1]), std::stod(t[2]));
-                        }
-                    }
-                }
-              else if (section == "$Elements" && major == 2)
-                {
-                  if (!next())
-                    return false;
-                  const long n = std::stol(line);
-                  for (long i = 0; i < n; ++i)
-                    {
-                      if (!next())
-                        return false;
-                      const auto t = tokens(line);
-                      if (t.size() < 3 || t.size() < 3 + std::stoul(t[2]))
-                        return false;
-                      GmshCells::Element e{std::stol(t[0]), std::stoi(t[1]), {}};
-                      for (std::size_t k = 3 + std::stoul(t[2]); k < t.size(); ++k)
-                        e.nodes.push_back(std::stol(t[k]));
-                      mesh.elements.push_back(std::move(e));
-                    }
-                }
-              else if (section == "$Elements" && major == 4)
-                {
-                  if (!next())
-                    return false;
-                  const long blocks = std::stol(tokens(line).at(0));
-                  for (long b = 0; b < blocks; ++b)
-                    {
-                      if (!next())
-                        return false;
-                      const auto head = tokens(line);
-                      const int  type = std::stoi(head.at(2));
-                      const long n    = std::stol(head.at(3));
-                      for (long i = 0; i < n; ++i)
-                        {
-                          if (!next())
-                            return false;
-                          const auto t = tokens(line);
-                          if (t.empty())
-                            return false;
-                          GmshCells::Element e{std::stol(t[0]), type, {}};
-                          for (std::size_t k = 1; k < t.size(); ++k)
-                            e.nodes.push_back(std::stol(t[k]));
-                          mesh.elements.push_back(std::move(e));
-                        }
-                    }
-                }
-            }
-        }
-      catch (const std::exception &)
-        {
-          return false;
-        }
-      return major != 0;
-    }
-
     std::string
     point_string(const Point<dim> &p)
     {
@@ -196,38 +38,13 @@ namespace perideal
       s << std::setprecision(6) << x;
       return s.str();
     }
-
-    // The Jacobian determinant of the trilinear map of a hexahedron with the
-    // vertices @p v in deal.II's lexicographic order, at the reference point
-    // @p t (a corner when every t[d] is 0 or 1).
-    double
-    hex_jacobian(const std::array<Point<dim>, 8> &v, const std::array<double, 3> &t)
-    {
-      Tensor<2, dim> J; // J[i][d] = dx_i / dxi_d
-      for (unsigned int c = 0; c < 8; ++c)
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            double dN = 1;
-            for (unsigned int e = 0; e < dim; ++e)
-              {
-                const bool upper = (c >> e) & 1;
-                if (e == d)
-                  dN *= upper ? 1 : -1;
-                else
-                  dN *= upper ? t[e] : 1 - t[e];
-              }
-            for (unsigned int i = 0; i < dim; ++i)
-              J[i][d] += v[c][i] * dN;
-          }
-      return determinant(J);
-    }
   } // namespace
 
   void
   check_gmsh_cells(const std::string &file, const double scale, const bool extruded)
   {
-    GmshCells mesh;
-    if (!read_gmsh_cells(file, mesh))
+    GmshMesh mesh;
+    if (!read_gmsh_file(file, mesh))
       return;
     const std::string where = "Discretization/Gmsh/Mesh file '" + file + "'";
     unsigned long     tets = 0, prisms = 0, pyramids = 0, hexes = 0, curved = 0, triangles = 0, quads = 0;
@@ -283,10 +100,16 @@ namespace perideal
                {curved, "second-order hexahedra"}})
           if (n > 0)
             list += std::to_string(n) + " " + what + ", ";
+        // Peridynamic blocks can take the other cells as points instead.
+        const std::string as_points =
+          tets + prisms + pyramids > 0 ?
+            ". For peridynamic blocks, Discretization/Gmsh/Cells as points = true reads each first-order "
+            "cell as one point instead (its centroid and volume)" :
+            "";
         AssertThrow(false,
                     ExcMessage(where + " holds " + list + std::to_string(hexes) +
                                " hexahedra: only first-order hexahedra can be used (p4est "
-                               "and the refinement work on hexahedra): " + make_hexahedra));
+                               "and the refinement work on hexahedra): " + make_hexahedra + as_points));
       }
 
     // The coordinates the run uses (times Scale) must be finite.

@@ -1,26 +1,17 @@
 // Discretization/Type = Text file: Peridigm's point cloud, a line "x y z
 // block volume" per point. Each point becomes a cube of its volume centred on
-// it, a coarse cell of its own: the cell's centroid and measure are the
-// point's position and volume, its material id the block, so regions,
-// conditions, families and output work on a point cloud as on a mesh. The
-// cubes are created in the order of a Morton curve through the points, so
-// that each rank's share of them is compact in space (p4est partitions the
-// coarse cells in their order).
+// it, a coarse cell of its own (point_cubes.h): the cell's centroid and
+// measure are the point's position and volume, its material id the block.
 
+#include <perideal/geometry/point_cubes.h>
 #include <perideal/geometry/scene.h>
 
 #include <deal.II/base/utilities.h>
-#include <deal.II/grid/tria_description.h>
 
-#include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <numeric>
 #include <sstream>
-#include <unordered_map>
 
 namespace perideal
 {
@@ -90,7 +81,7 @@ namespace perideal
                           ExcMessage(where() + "the point's size (volume^(1/3) = " + Utilities::to_string(edge) +
                                      ") is too small for its coordinates: points would not be told apart in "
                                      "double; move the body near the origin"));
-            points.push_back(PointLine{Point<dim>(x[0], x[1], x[2]), static_cast<unsigned int>(block), edge});
+            points.push_back(CloudPoint{Point<dim>(x[0], x[1], x[2]), volume, static_cast<unsigned int>(block)});
           }
         AssertThrow(!points.empty(), ExcMessage(key + " '" + file + "' holds no point"));
       }
@@ -98,68 +89,7 @@ namespace perideal
       void
       create_triangulation(parallel::distributed::Triangulation<dim> &tria) const override
       {
-        // The Morton key of each point in its bounding box (21 bits per axis).
-        Point<dim> lo = points[0].x, hi = points[0].x;
-        for (const auto &p : points)
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              lo[d] = std::min(lo[d], p.x[d]);
-              hi[d] = std::max(hi[d], p.x[d]);
-            }
-        const auto morton = [&](const Point<dim> &x) {
-          std::uint64_t key = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              const double        span = hi[d] - lo[d];
-              const std::uint64_t q =
-                span > 0 ? std::min<std::uint64_t>((1u << 21) - 1, std::uint64_t((x[d] - lo[d]) / span * (1u << 21))) : 0;
-              for (unsigned int b = 0; b < 21; ++b)
-                key |= ((q >> b) & 1u) << (3 * b + d);
-            }
-          return key;
-        };
-        std::vector<std::pair<std::uint64_t, unsigned int>> order(points.size());
-        for (unsigned int i = 0; i < points.size(); ++i)
-          order[i] = {morton(points[i].x), i};
-        std::sort(order.begin(), order.end());
-
-        // Cubes whose corners coincide to the bit (a lattice of points) share
-        // those vertices: the coarse mesh is then connected, as a mesh is.
-        // deal.II orders the coarse cells for p4est by their connectivity
-        // (SparsityTools::reorder_hierarchical), and cells that share nothing
-        // cost it a search each: 10^5 unconnected cubes take 16 s to set up.
-        struct Hash
-        {
-          std::size_t
-          operator()(const std::array<double, 3> &x) const
-          {
-            std::size_t h = 0;
-            for (const double c : x)
-              h = h * 1000003u ^ std::hash<double>()(c);
-            return h;
-          }
-        };
-        std::unordered_map<std::array<double, 3>, unsigned int, Hash> index;
-        index.reserve(2 * points.size());
-        std::vector<Point<dim>>    vertices;
-        std::vector<CellData<dim>> cells(points.size());
-        for (unsigned int c = 0; c < order.size(); ++c)
-          {
-            const PointLine &p = points[order[c].second];
-            const double     h = 0.5 * p.edge;
-            for (unsigned int v = 0; v < 8; ++v)
-              {
-                // deal.II's vertex order: x fastest, then y, then z.
-                const std::array<double, 3> x{{p.x[0] + (v & 1 ? h : -h), p.x[1] + (v & 2 ? h : -h),
-                                               p.x[2] + (v & 4 ? h : -h)}};
-                const auto [it, added] = index.emplace(x, vertices.size());
-                if (added)
-                  vertices.emplace_back(x[0], x[1], x[2]);
-                cells[c].vertices[v] = it->second;
-              }
-            cells[c].material_id = p.block;
-          }
-        tria.create_triangulation(vertices, cells, SubCellData());
+        create_point_cubes(tria, points);
       }
 
       std::string
@@ -169,14 +99,8 @@ namespace perideal
       }
 
     private:
-      struct PointLine
-      {
-        Point<dim>   x;
-        unsigned int block;
-        double       edge; // of the cube of its volume
-      };
-      std::string            file;
-      std::vector<PointLine> points;
+      std::string             file;
+      std::vector<CloudPoint> points;
     };
   } // namespace
 

@@ -1,0 +1,198 @@
+// A Gmsh mesh file's nodes and elements as written (ASCII, format 2.2 or
+// 4.1), for the checks before deal.II reads a hexahedral mesh and for the
+// cells read as points, which deal.II cannot read.
+
+#include <perideal/geometry/gmsh_file.h>
+
+#include <deal.II/base/tensor.h>
+#include <deal.II/base/utilities.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    std::vector<std::string>
+    tokens(const std::string &line)
+    {
+      std::istringstream       in(line);
+      std::vector<std::string> t;
+      for (std::string w; in >> w;)
+        t.push_back(w);
+      return t;
+    }
+  } // namespace
+
+  bool
+  read_gmsh_file(const std::string &file, GmshMesh &mesh)
+  {
+    std::ifstream in(file);
+    std::string   line;
+    int           major = 0;
+    // Format 4.1: the physical group of each entity (dimension, tag), as
+    // deal.II takes it: the first one, 0 if none.
+    std::map<std::pair<int, long>, long> physical;
+    auto next = [&in, &line]() -> bool {
+      while (std::getline(in, line))
+        if (!Utilities::trim(line).empty())
+          return true;
+      return false;
+    };
+    try
+      {
+        while (next())
+          {
+            const std::string section = Utilities::trim(line);
+            if (section == "$MeshFormat")
+              {
+                if (!next())
+                  return false;
+                const auto t = tokens(line);
+                if (t.size() < 2 || t[1] != "0")
+                  return false; // binary
+                major = static_cast<int>(std::stod(t[0]));
+                if (major != 2 && major != 4)
+                  return false;
+              }
+            else if (section == "$Entities" && major == 4)
+              {
+                if (!next())
+                  return false;
+                const auto counts = tokens(line);
+                for (int d = 0; d < 4; ++d)
+                  for (long i = 0; i < std::stol(counts.at(d)); ++i)
+                    {
+                      if (!next())
+                        return false;
+                      // tag, then a point's x y z or a box's 6 coordinates
+                      const auto        t = tokens(line);
+                      const std::size_t n = d == 0 ? 4 : 7;
+                      physical[{d, std::stol(t.at(0))}] = std::stol(t.at(n)) > 0 ? std::stol(t.at(n + 1)) : 0;
+                    }
+              }
+            else if (section == "$Nodes" && major == 2)
+              {
+                if (!next())
+                  return false;
+                const long n = std::stol(line);
+                for (long i = 0; i < n; ++i)
+                  {
+                    if (!next())
+                      return false;
+                    const auto t = tokens(line);
+                    if (t.size() < 4)
+                      return false;
+                    mesh.nodes[std::stol(t[0])] = Point<dim>(std::stod(t[1]), std::stod(t[2]), std::stod(t[3]));
+                  }
+              }
+            else if (section == "$Nodes" && major == 4)
+              {
+                if (!next())
+                  return false;
+                const long blocks = std::stol(tokens(line).at(0));
+                for (long b = 0; b < blocks; ++b)
+                  {
+                    if (!next())
+                      return false;
+                    const auto head       = tokens(line);
+                    const int  entity_dim = std::stoi(head.at(0)), parametric = std::stoi(head.at(2));
+                    const long n          = std::stol(head.at(3));
+                    std::vector<long> tags(n);
+                    for (long i = 0; i < n; ++i)
+                      {
+                        if (!next())
+                          return false;
+                        tags[i] = std::stol(line);
+                      }
+                    for (long i = 0; i < n; ++i)
+                      {
+                        if (!next())
+                          return false;
+                        const auto t = tokens(line);
+                        if (t.size() < 3u + (parametric ? entity_dim : 0))
+                          return false;
+                        mesh.nodes[tags[i]] = Point<dim>(std::stod(t[0]), std::stod(t[1]), std::stod(t[2]));
+                      }
+                  }
+              }
+            else if (section == "$Elements" && major == 2)
+              {
+                if (!next())
+                  return false;
+                const long n = std::stol(line);
+                for (long i = 0; i < n; ++i)
+                  {
+                    if (!next())
+                      return false;
+                    const auto t = tokens(line);
+                    if (t.size() < 3 || t.size() < 3 + std::stoul(t[2]))
+                      return false;
+                    // The first tag is the physical group.
+                    GmshMesh::Element e{std::stol(t[0]), std::stoi(t[1]), std::stoul(t[2]) > 0 ? std::stol(t[3]) : 0, {}};
+                    for (std::size_t k = 3 + std::stoul(t[2]); k < t.size(); ++k)
+                      e.nodes.push_back(std::stol(t[k]));
+                    mesh.elements.push_back(std::move(e));
+                  }
+              }
+            else if (section == "$Elements" && major == 4)
+              {
+                if (!next())
+                  return false;
+                const long blocks = std::stol(tokens(line).at(0));
+                for (long b = 0; b < blocks; ++b)
+                  {
+                    if (!next())
+                      return false;
+                    const auto head  = tokens(line);
+                    const auto group = physical.find({std::stoi(head.at(0)), std::stol(head.at(1))});
+                    const int  type  = std::stoi(head.at(2));
+                    const long n     = std::stol(head.at(3));
+                    for (long i = 0; i < n; ++i)
+                      {
+                        if (!next())
+                          return false;
+                        const auto t = tokens(line);
+                        if (t.empty())
+                          return false;
+                        GmshMesh::Element e{std::stol(t[0]), type, group != physical.end() ? group->second : 0, {}};
+                        for (std::size_t k = 1; k < t.size(); ++k)
+                          e.nodes.push_back(std::stol(t[k]));
+                        mesh.elements.push_back(std::move(e));
+                      }
+                  }
+              }
+          }
+      }
+    catch (const std::exception &)
+      {
+        return false;
+      }
+    return major != 0;
+  }
+
+  double
+  hex_jacobian(const std::array<Point<dim>, 8> &v, const std::array<double, 3> &t)
+  {
+    Tensor<2, dim> J; // J[i][d] = dx_i / dxi_d
+    for (unsigned int c = 0; c < 8; ++c)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          double dN = 1;
+          for (unsigned int e = 0; e < dim; ++e)
+            {
+              const bool upper = (c >> e) & 1;
+              if (e == d)
+                dN *= upper ? 1 : -1;
+              else
+                dN *= upper ? t[e] : 1 - t[e];
+            }
+          for (unsigned int i = 0; i < dim; ++i)
+            J[i][d] += v[c][i] * dN;
+        }
+    return determinant(J);
+  }
+} // namespace perideal
