@@ -22,9 +22,11 @@ it does not have) are reported but are not essential.
 
 Options:
   --mesh FILE.msh        Peridigm's Exodus discretization is read from this
-                         hexahedral Gmsh mesh instead (PeriDeal reads no
-                         Exodus): Exodus block_N is the Gmsh volume physical
-                         group N (material id N).
+                         Gmsh mesh instead (PeriDeal reads no Exodus):
+                         Exodus block_N is the Gmsh volume physical group N
+                         (material id N). A mesh with tetrahedra, prisms or
+                         pyramids is read with Cells as points = true (each
+                         cell one point at its centroid, as Peridigm does).
   --node-set NAME=SPEC   what a Peridigm node set (an Exodus node set, a file
                          or list of node numbers) is in space, as a PeriDeal
                          region: box:X0,Y0,Z0:X1,Y1,Z1, expression:EXPR (a
@@ -551,6 +553,40 @@ def num(s):
     return s.strip()
 
 
+def cells_other_than_hexahedra(path):
+    """The 3D cells of the Gmsh mesh PATH (ASCII, format 2.2 or 4.1) that are
+    not hexahedra, as text ('200 tetrahedra'); '' if none, or if the file
+    cannot be read (pd_app then says why)."""
+    names = {4: "tetrahedron", 6: "prism", 7: "pyramid", 11: "tetrahedron", 13: "prism", 14: "pyramid"}
+    plural = {"tetrahedron": "tetrahedra", "prism": "prisms", "pyramid": "pyramids"}
+    counts = {}
+    try:
+        with open(path) as f:
+            lines = iter(f.read().splitlines())
+        version = None
+        for line in lines:
+            if line.strip() == "$MeshFormat":
+                version = next(lines).split()[0]
+            elif line.strip() == "$Elements":
+                if version is not None and version.startswith("4"):
+                    n_blocks = int(next(lines).split()[0])
+                    for _ in range(n_blocks):
+                        _, _, kind, n = (int(v) for v in next(lines).split()[:4])
+                        for _ in range(n):
+                            next(lines)
+                        if kind in names:
+                            counts[names[kind]] = counts.get(names[kind], 0) + n
+                else:
+                    for _ in range(int(next(lines).split()[0])):
+                        kind = int(next(lines).split()[1])
+                        if kind in names:
+                            counts[names[kind]] = counts.get(names[kind], 0) + 1
+                break
+    except (OSError, UnicodeDecodeError, ValueError, IndexError, StopIteration):
+        return ""
+    return " and ".join("%d %s" % (n, name if n == 1 else plural[name]) for name, n in sorted(counts.items()))
+
+
 class Converter:
     ESSENTIAL_SECTIONS = ("Discretization", "Materials", "Blocks", "Solver")
 
@@ -812,6 +848,11 @@ class Converter:
                 g.comment("Peridigm's Exodus mesh '%s' replaced by this Gmsh mesh (--mesh):\n"
                           "Exodus block_N is the volume physical group N." % mesh)
                 g.set("Mesh file", self.args.mesh)
+                others = cells_other_than_hexahedra(self.args.mesh)
+                if others:
+                    g.set("Cells as points", "true",
+                          "The mesh holds %s: each cell becomes one point at its centroid with its volume, as "
+                          "Peridigm makes each Exodus element one point." % others)
                 self.warn(d.children.get("Input Mesh File") or d,
                           "the Exodus mesh '%s' is replaced by the Gmsh mesh '%s' (--mesh); Exodus block_N "
                           "is taken as Gmsh volume physical group N, node sets as --node-set says"
@@ -1766,7 +1807,8 @@ def main(argv=None):
     ap.add_argument("-o", "--output", help="the parameter file to write (default: standard output)")
     ap.add_argument("--partial", action="store_true",
                     help="write what could be converted even if something essential could not")
-    ap.add_argument("--mesh", help="a hexahedral Gmsh mesh standing for the deck's Exodus mesh")
+    ap.add_argument("--mesh", help="a Gmsh mesh standing for the deck's Exodus mesh (hexahedra; tetrahedra, "
+                    "prisms or pyramids make it Cells as points)")
     ap.add_argument("--node-set", action="append", metavar="NAME=SPEC",
                     help="a node set as a region: box:X0,Y0,Z0:X1,Y1,Z1, expression:EXPR or group:N[:DIM]")
     ap.add_argument("--seed", type=int, default=1, help="Random seed of conditions that use rnd() (default 1)")
