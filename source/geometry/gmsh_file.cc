@@ -9,6 +9,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace perideal
 {
@@ -42,6 +43,13 @@ namespace perideal
           return true;
       return false;
     };
+    // The next line's words, inside a section: a file that ends there is
+    // not a mesh (caught below, as a number that does not parse is).
+    auto row = [&next, &line]() {
+      if (!next())
+        throw std::runtime_error("the file ends inside a section");
+      return tokens(line);
+    };
     try
       {
         while (next())
@@ -49,9 +57,7 @@ namespace perideal
             const std::string section = Utilities::trim(line);
             if (section == "$MeshFormat")
               {
-                if (!next())
-                  return false;
-                const auto t = tokens(line);
+                const auto t = row();
                 if (t.size() < 2 || t[1] != "0")
                   return false; // binary
                 major = static_cast<int>(std::stod(t[0]));
@@ -60,30 +66,22 @@ namespace perideal
               }
             else if (section == "$Entities" && major == 4)
               {
-                if (!next())
-                  return false;
-                const auto counts = tokens(line);
+                const auto counts = row();
                 for (int d = 0; d < 4; ++d)
                   for (long i = 0; i < std::stol(counts.at(d)); ++i)
                     {
-                      if (!next())
-                        return false;
                       // tag, then a point's x y z or a box's 6 coordinates
-                      const auto        t = tokens(line);
+                      const auto        t = row();
                       const std::size_t n = d == 0 ? 4 : 7;
                       physical[{d, std::stol(t.at(0))}] = std::stol(t.at(n)) > 0 ? std::stol(t.at(n + 1)) : 0;
                     }
               }
             else if (section == "$Nodes" && major == 2)
               {
-                if (!next())
-                  return false;
-                const long n = std::stol(line);
+                const long n = std::stol(row().at(0));
                 for (long i = 0; i < n; ++i)
                   {
-                    if (!next())
-                      return false;
-                    const auto t = tokens(line);
+                    const auto t = row();
                     if (t.size() < 4)
                       return false;
                     mesh.nodes[std::stol(t[0])] = Point<dim>(std::stod(t[1]), std::stod(t[2]), std::stod(t[3]));
@@ -91,28 +89,20 @@ namespace perideal
               }
             else if (section == "$Nodes" && major == 4)
               {
-                if (!next())
-                  return false;
-                const long blocks = std::stol(tokens(line).at(0));
+                const long blocks = std::stol(row().at(0));
                 for (long b = 0; b < blocks; ++b)
                   {
-                    if (!next())
-                      return false;
-                    const auto head       = tokens(line);
+                    const auto head       = row();
                     const int  entity_dim = std::stoi(head.at(0)), parametric = std::stoi(head.at(2));
                     const long n          = std::stol(head.at(3));
                     std::vector<long> tags(n);
                     for (long i = 0; i < n; ++i)
                       {
-                        if (!next())
-                          return false;
-                        tags[i] = std::stol(line);
+                        tags[i] = std::stol(row().at(0));
                       }
                     for (long i = 0; i < n; ++i)
                       {
-                        if (!next())
-                          return false;
-                        const auto t = tokens(line);
+                        const auto t = row();
                         if (t.size() < 3u + (parametric ? entity_dim : 0))
                           return false;
                         mesh.nodes[tags[i]] = Point<dim>(std::stod(t[0]), std::stod(t[1]), std::stod(t[2]));
@@ -121,14 +111,10 @@ namespace perideal
               }
             else if (section == "$Elements" && major == 2)
               {
-                if (!next())
-                  return false;
-                const long n = std::stol(line);
+                const long n = std::stol(row().at(0));
                 for (long i = 0; i < n; ++i)
                   {
-                    if (!next())
-                      return false;
-                    const auto t = tokens(line);
+                    const auto t = row();
                     if (t.size() < 3 || t.size() < 3 + std::stoul(t[2]))
                       return false;
                     // The first tag is the physical group.
@@ -140,22 +126,16 @@ namespace perideal
               }
             else if (section == "$Elements" && major == 4)
               {
-                if (!next())
-                  return false;
-                const long blocks = std::stol(tokens(line).at(0));
+                const long blocks = std::stol(row().at(0));
                 for (long b = 0; b < blocks; ++b)
                   {
-                    if (!next())
-                      return false;
-                    const auto head  = tokens(line);
+                    const auto head  = row();
                     const auto group = physical.find({std::stoi(head.at(0)), std::stol(head.at(1))});
                     const int  type  = std::stoi(head.at(2));
                     const long n     = std::stol(head.at(3));
                     for (long i = 0; i < n; ++i)
                       {
-                        if (!next())
-                          return false;
-                        const auto t = tokens(line);
+                        const auto t = row();
                         if (t.empty())
                           return false;
                         GmshMesh::Element e{std::stol(t[0]), type, group != physical.end() ? group->second : 0, {}};

@@ -134,14 +134,7 @@ namespace perideal
     {
       // deal.II's vertex order to VTK_HEXAHEDRON's.
       static constexpr unsigned int vtk_order[8] = {0, 1, 3, 2, 4, 5, 7, 6};
-      std::vector<DoFHandler<3>::active_cell_iterator> cells;
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned() && written_cells[cell->active_cell_index()])
-          {
-            AssertThrow(cell->reference_cell() == ReferenceCells::Hexahedron,
-                        ExcMessage("Output/Field precision = double writes hexahedral cells only"));
-            cells.push_back(cell);
-          }
+      const auto cells = written_hexahedra(dof_handler, written_cells, "Output/Field precision = double");
       const std::size_t   n_points = 8 * cells.size();
       std::vector<double> points;
       points.reserve(3 * n_points);
@@ -305,6 +298,20 @@ namespace perideal
     AssertThrow(!base_name.empty() && base_name.find('/') == std::string::npos,
                 ExcMessage("Output/Base name must be a plain file name, got '" +
                            base_name + "'"));
+  }
+
+  std::vector<DoFHandler<3>::active_cell_iterator>
+  written_hexahedra(const DoFHandler<3> &dof_handler, const std::vector<bool> &written_cells, const std::string &writer)
+  {
+    std::vector<DoFHandler<3>::active_cell_iterator> cells;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && written_cells[cell->active_cell_index()])
+        {
+          AssertThrow(cell->reference_cell() == ReferenceCells::Hexahedron,
+                      ExcMessage(writer + " writes hexahedral cells only"));
+          cells.push_back(cell);
+        }
+    return cells;
   }
 
   std::string

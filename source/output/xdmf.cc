@@ -202,16 +202,10 @@ namespace perideal
                            const MPI_Comm                  comm)
   {
     static constexpr unsigned int vtk_order[8] = {0, 1, 3, 2, 4, 5, 7, 6}; // deal.II's to VTK's
-    std::vector<DoFHandler<3>::active_cell_iterator> cells;
-    std::vector<unsigned int>                        indices;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && written_cells[cell->active_cell_index()])
-        {
-          AssertThrow(cell->reference_cell() == ReferenceCells::Hexahedron,
-                      ExcMessage("Output/Field format = hdf5 writes hexahedral cells only"));
-          cells.push_back(cell);
-          indices.push_back(cell->active_cell_index());
-        }
+    const auto cells = written_hexahedra(dof_handler, written_cells, "Output/Field format = hdf5");
+    std::vector<unsigned int> indices;
+    for (const auto &cell : cells)
+      indices.push_back(cell->active_cell_index());
     const auto [first_cell, total_cells] = rows_of_rank(cells.size(), comm);
     const std::string stem               = base_name + "_" + Utilities::int_to_string(step, 6);
     const char       *real               = "Float";

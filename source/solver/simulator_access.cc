@@ -177,15 +177,16 @@ namespace perideal
     const MPI_Comm              comm       = access->comm;
     checkpoint_note.clear();
     bool due = (parameters.frequency > 0 && step % parameters.frequency == 0) || (signal && parameters.on_signal);
-    const auto now = std::chrono::steady_clock::now();
     if (parameters.minutes > 0 && !due)
       {
         // Rank 0's clock decides, for all.
-        const int late = std::chrono::duration<double>(now - last_checkpoint).count() >= 60 * parameters.minutes;
-        due            = Utilities::MPI::broadcast(comm, late, 0) != 0;
+        const int late = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint).count() >=
+                         60 * parameters.minutes;
+        due = Utilities::MPI::broadcast(comm, late, 0) != 0;
       }
     if (!due)
       return;
+    const auto now = std::chrono::steady_clock::now();
     double bytes = 0;
     {
       TimerOutput::Scope t(access->timer, "checkpoint");

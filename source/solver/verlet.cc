@@ -100,7 +100,7 @@ namespace perideal
       {
         do_initial_timestep();
         // A checkpoint of a stage's last step continues with the next stage.
-        if (!(counted ? step >= n_steps : time >= access->deck.solver.final_time))
+        if (!at_end())
           while (!do_timestep())
             ;
         finish();
@@ -149,6 +149,13 @@ namespace perideal
       save_state(CheckpointWriter &out) const override;
       void
       load_state(CheckpointReader &in) override;
+
+      /// The solver's steps are done (a checkpoint of its last step).
+      bool
+      at_end() const
+      {
+        return counted ? step >= n_steps : time >= access->deck.solver.final_time;
+      }
 
       double fixed_dt = 0, safety_factor = 0.8;
 
@@ -246,7 +253,7 @@ namespace perideal
           // The state, the record and where the loop stood; the loads of
           // the checkpoint's time are the next step's start.
           restore_checkpoint();
-          AssertThrow(!access->last_stage || (counted ? step < n_steps : time < solver.final_time),
+          AssertThrow(!access->last_stage || !at_end(),
                       ExcMessage("--restart '" + access->restart + "': the checkpoint is of the run's last step (" +
                                  std::to_string(step) + ", t = " + sci(time, 6) + "): nothing is left to run"));
           if (conditions.has_loads())

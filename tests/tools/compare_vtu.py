@@ -72,18 +72,41 @@ def cells(pvtu):
     return found, types
 
 
+class Checks:
+    """Prints each check with PASS/FAIL and counts the failures."""
+
+    def __init__(self):
+        self.failures = 0
+
+    def __call__(self, what, ok):
+        print("  " + what + ": " + ("PASS" if ok else "FAIL"))
+        self.failures += not ok
+
+    def differences(self, worst, scale, rtol, what):
+        """A check per name: worst[name] / scale[name] <= rtol; WHAT
+        names the difference ('|double - float| / max |float|')."""
+        for name in sorted(worst):
+            diff = worst[name] / max(scale[name], 1e-300)
+            self("'%s': largest %s = %.3g <= %g" % (name, what, diff, rtol), diff <= rtol)
+
+    def finish(self):
+        print("ALL PASSED" if self.failures == 0 else "%d CHECK(S) FAILED" % self.failures)
+        return 1 if self.failures else 0
+
+
+def centre_key(edge):
+    """A cell's 8 vertices to its centre, binned at a quarter of EDGE (the
+    shortest edge): cells of two files match whatever their rounding."""
+    return lambda xyz: tuple(int(round(sum(v[d] for v in xyz) / 8 / (edge / 4))) for d in range(3))
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("float_pvtu")
     parser.add_argument("double_pvtu")
     parser.add_argument("--rtol", type=float, default=1e-6)
     args = parser.parse_args()
-    failures = 0
-
-    def check(what, ok):
-        nonlocal failures
-        print("  " + what + ": " + ("PASS" if ok else "FAIL"))
-        failures += not ok
+    check = Checks()
 
     single, single_types = cells(args.float_pvtu)
     double, double_types = cells(args.double_pvtu)
@@ -95,8 +118,7 @@ def main():
     # Cells matched by their centre (binned at a quarter of the shortest edge:
     # the two files' coordinates differ by Float32 rounding only), whatever
     # the number of ranks (pieces) of each run.
-    edge = min(max(abs(a - b) for a, b in zip(x[0], x[1])) for x, _ in double)
-    key = lambda xyz: tuple(round(sum(v[d] for v in xyz) / 8 / (edge / 4)) for d in range(3))
+    key = centre_key(min(max(abs(a - b) for a, b in zip(x[0], x[1])) for x, _ in double))
     by_centre = {key(xyz): (xyz, values) for xyz, values in double}
     check("every cell's centre is in both", all(key(xyz) in by_centre for xyz, _ in single))
     scale, worst = {}, {}
@@ -110,11 +132,8 @@ def main():
                     for x, y in zip(va, vb):
                         scale[name] = max(scale.get(name, 0.0), abs(x))
                         worst[name] = max(worst.get(name, 0.0), abs(x - y))
-    for name in sorted(worst):
-        diff = worst[name] / max(scale[name], 1e-300)
-        check("'%s': largest |double - float| / max |float| = %.3g <= %g" % (name, diff, args.rtol), diff <= args.rtol)
-    print("ALL PASSED" if failures == 0 else "%d CHECK(S) FAILED" % failures)
-    return 1 if failures else 0
+    check.differences(worst, scale, args.rtol, "|double - float| / max |float|")
+    return check.finish()
 
 
 if __name__ == "__main__":

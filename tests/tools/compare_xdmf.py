@@ -25,7 +25,7 @@ import h5py
 import numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from compare_vtu import cells as vtu_cells  # noqa: E402
+from compare_vtu import Checks, centre_key, cells as vtu_cells  # noqa: E402
 
 
 def dataset(folder, item, failures):
@@ -75,12 +75,7 @@ def main():
     parser.add_argument("--rtol", type=float, default=1e-12)
     parser.add_argument("--precision", choices=("double", "float"), default="double")
     args = parser.parse_args()
-    failures = 0
-
-    def check(what, ok):
-        nonlocal failures
-        print("  " + what + ": " + ("PASS" if ok else "FAIL"))
-        failures += not ok
+    check = Checks()
 
     folder = os.path.dirname(args.pvd)
     records = [(float(t), os.path.join(folder, f))
@@ -103,8 +98,7 @@ def main():
               len(vtu) == len(h5_cells) > 0)
         check("the same fields with the same components",
               {n: t[1] for n, t in vtu_types.items()} == {n: v.shape[1] for n, v in fields.items()})
-        edge = min(numpy.abs(c[0] - c[1]).max() for c in h5_cells)
-        key = lambda xyz: tuple(int(round(sum(v[d] for v in xyz) / 8 / (edge / 4))) for d in range(3))
+        key = centre_key(min(numpy.abs(c[0] - c[1]).max() for c in h5_cells))
         by_centre = {key(c): k for k, c in enumerate(h5_cells)}
         check("every cell's centre is in both", len(by_centre) == len(h5_cells)
               and all(key(xyz) in by_centre for xyz, _ in vtu))
@@ -118,11 +112,8 @@ def main():
             for name, a, b in pairs:
                 scale[name] = max(scale.get(name, 0.0), numpy.abs(a).max())
                 worst[name] = max(worst.get(name, 0.0), numpy.abs(a - b).max())
-        for name in sorted(worst):
-            diff = worst[name] / max(scale[name], 1e-300)
-            check("'%s': largest |hdf5 - vtu| / max |vtu| = %.3g <= %g" % (name, diff, args.rtol), diff <= args.rtol)
-    print("ALL PASSED" if failures == 0 else "%d CHECK(S) FAILED" % failures)
-    return 1 if failures else 0
+        check.differences(worst, scale, args.rtol, "|hdf5 - vtu| / max |vtu|")
+    return check.finish()
 
 
 if __name__ == "__main__":

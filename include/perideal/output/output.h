@@ -158,6 +158,15 @@ namespace perideal
     std::vector<unsigned int> mesh_cells;
   };
 
+  /// The locally owned cells of @p dof_handler whose @p written_cells entry
+  /// (by active cell index) is true, in their order, for the writers that lay
+  /// out hexahedra themselves; another cell stops with "@p writer writes
+  /// hexahedral cells only".
+  std::vector<dealii::DoFHandler<3>::active_cell_iterator>
+  written_hexahedra(const dealii::DoFHandler<3> &dof_handler,
+                    const std::vector<bool>     &written_cells,
+                    const std::string           &writer);
+
   /// Writes @p text to @p filename through a temporary file and a rename.
   void
   write_file_atomically(const std::string &filename, const std::string &text);
