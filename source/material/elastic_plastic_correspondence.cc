@@ -19,26 +19,29 @@
 // increment). The law is rate independent: it needs no dt, only the stretch
 // U_N of the last accepted state (history); at the initial evaluation of an
 // undeformed body U = U_N = I and there is no increment.
-// Stress: the unrotated Kirchhoff stress tau^ (= J times the unrotated Cauchy
-// stress), with lambda = K - 2G/3 and Y_N = Y0 + H eps_p,N, by backward
-// Euler and radial return (Simo & Hughes, box 3.1):
-//   tau_tr = tau^_N + lambda tr(De) I + 2 G De,  s_tr = dev tau_tr,
+// Stress: an unrotated stress S^ updated by backward Euler and radial return
+// (Simo & Hughes, box 3.1), with lambda = K - 2G/3 and Y_N = Y0 + H eps_p,N:
+//   S_tr = S^_N + lambda tr(De) I + 2 G De,  s_tr = dev S_tr,
 //   q_tr = sqrt(3/2 s_tr:s_tr);  if q_tr > Y_N:
-//   a = (q_tr - Y_N) / (3G + H),  s = s_tr (Y_N + H a) / q_tr,
-//   eps_p,NP1 = eps_p,N + a,  D_NP1 = D_N + (Y_N + H a / 2) a,
-// else s = s_tr, a = 0; tau^_NP1 = s + tr(tau_tr)/3 I. D is the dissipation
-// density, the integral of Y d eps_p over the step (the stored energy has no
-// hardening term).
-//   P = R tau^ U^-1 / theta (= tau F^-T with tau = R tau^ R^T),
-//   Cauchy stress (corr_cauchy) = R tau^ R^T / det F.
-// Kirchhoff rather than Cauchy: the work per unit reference volume is the
-// integral of tau:D dt, so with the stored energy density
+//   a = (q_tr - Y_N) / (3G + H),  s = s_tr (Y_N + H a) / q_tr,  eps_p += a,
+// else s = s_tr, a = 0; S^_NP1 = s + tr(S_tr)/3 I. Which stress S^ is, the
+// key 'Yield stress measure' says:
+// - Kirchhoff (the default): S^ = tau^, the unrotated Kirchhoff stress (J
+//   times the unrotated Cauchy stress). The work per unit reference volume
+//   is the integral of tau:D dt, so with the stored energy density
 //   W = tau^:C^-1:tau^ / 2 = p^2 / (2K) + s:s / (4G)   (p = tr(tau^)/3)
-// work = W + D holds to the error of the time integration; the yield is on
-// the Kirchhoff von Mises stress, the Cauchy one times J, and J - 1 (the
-// elastic volume change p/K) is below 1e-2 for metals. W is not a potential
-// of the force (the stress depends on the path, not on F alone).
-// History per point: tau^ (6), U - I (6), the equivalent plastic strain
+//   and the dissipation D_NP1 = D_N + (Y_N + H a / 2) a, work = W + D holds
+//   to the error of the time integration. The Cauchy von Mises stress at
+//   yield is Y / J.
+//     P = R tau^ U^-1 / theta (= tau F^-T),  sigma = R tau^ R^T / det F.
+// - Cauchy (Peridigm's): S^ = sigma^, the unrotated Cauchy stress, so the
+//   Cauchy von Mises stress at yield is Y. With J = det F,
+//     P = J R sigma^ U^-1 / theta,  sigma = R sigma^ R^T,
+//     W = J (p^2 / (2K) + s:s / (4G)),  D_NP1 = D_N + J (Y_N + H a / 2) a;
+//   work = W + D then holds to O(tr(De) W) per step besides (the Cauchy
+//   rate is not the one whose work is tau:D).
+// W is not a potential of the force (the stress depends on the path).
+// History per point: S^ (6), U - I (6), the equivalent plastic strain
 // eps_p (output "Equivalent plastic strain", the field of Elastic plastic),
 // and D (a dissipation field: the globals' material_dissipation and the
 // energy balance include it). A point whose damaged family no longer spans
@@ -71,6 +74,11 @@ namespace perideal
         prm.declare_entry("Hardening modulus", "0", Patterns::Double(),
                           "Linear isotropic hardening H >= 0: Y = Y0 + H eps_p, eps_p the equivalent plastic "
                           "strain (uniaxial stress: tangent modulus E H / (E + H)); 0: perfectly plastic.");
+        prm.declare_entry("Yield stress measure", "Kirchhoff", Patterns::Selection("Kirchhoff|Cauchy"),
+                          "The stress whose von Mises value yields at Y: Kirchhoff (J times Cauchy; the stored "
+                          "and dissipated energies add up to the work exactly; the Cauchy von Mises stress at "
+                          "yield is Y / J) or Cauchy (Peridigm's: the Cauchy von Mises stress at yield is Y). "
+                          "The two differ by the volume ratio J = det F (doc/models.md).");
       }
 
       void
@@ -79,6 +87,7 @@ namespace perideal
         parse_kinematics_parameters(prm, path_);
         Y0 = prm.get_double("Yield stress");
         H  = prm.get_double("Hardening modulus");
+        cauchy_yield = prm.get("Yield stress measure") == "Cauchy";
         require_positive(Y0, path + "/Yield stress");
         AssertThrow(H >= 0 && std::isfinite(H),
                     ExcMessage(path + "/Hardening modulus must be >= 0 (0: perfectly plastic), got " +
@@ -89,7 +98,7 @@ namespace perideal
       point_fields() const override
       {
         std::vector<PointField> f = CorrespondenceMaterial::point_fields();
-        f.push_back({"epc_stress", FieldUse::history, 6});  // tau^, unrotated Kirchhoff
+        f.push_back({"epc_stress", FieldUse::history, 6});  // S^: tau^ or sigma^ (see the top)
         f.push_back({"epc_stretch", FieldUse::history, 6}); // U - I
         // The fields of Elastic plastic: one output variable for both models.
         f.push_back({"eps_plastic_strain", FieldUse::history, 1, "Equivalent plastic strain"});
@@ -126,6 +135,7 @@ namespace perideal
 
     private:
       double Y0 = 0, H = 0;
+      bool   cauchy_yield = false; // Yield stress measure: S^ is sigma^ (true) or tau^
 
       /// Symmetric 6-vector (xx yy zz xy yz xz) <-> row-major 3x3.
       static void
@@ -180,7 +190,7 @@ namespace perideal
         for (unsigned int k = 0; k < 6; ++k)
           stretch[k] = k < 3 ? Un[4 * k] - 1 : Un[k == 3 ? 1 : k == 4 ? 5 : 2];
 
-        // Elastic trial and radial return.
+        // Elastic trial and radial return on S^ (tau^ or sigma^).
         const double lambda = K - 2 * G / 3, trace = De[0] + De[1] + De[2];
         double       t[6];
         for (unsigned int k = 0; k < 6; ++k)
@@ -192,29 +202,31 @@ namespace perideal
         const double ss   = dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2] +
                           2 * (dev[3] * dev[3] + dev[4] * dev[4] + dev[5] * dev[5]);
         const double q_tr = std::sqrt(1.5 * ss), Y_N = Y0 + H * ep;
+        // Energies per unit reference volume: J times those of a Cauchy S^.
+        const double J = determinant(F), per_reference = cauchy_yield ? J : 1.0;
         double       scale = 1;
         if (q_tr > Y_N)
           {
             const double a = (q_tr - Y_N) / (3 * G + H);
             scale          = (Y_N + H * a) / q_tr;
-            D += (Y_N + 0.5 * H * a) * a;
+            D += per_reference * (Y_N + 0.5 * H * a) * a;
             ep += a;
           }
         for (unsigned int k = 0; k < 6; ++k)
           tau[k] = scale * dev[k] + (k < 3 ? p : 0.0);
 
-        // P = R tau^ U^-1 / theta, sigma = R tau^ R^T / det F.
+        // With tau^ = per_reference S^: P = R tau^ U^-1 / theta, sigma = R tau^ R^T / det F.
         double T[9], RT[9], TUinv[9];
         full(tau, T);
         multiply(R, T, RT);
         multiply(RT, Uinv, TUinv);
         for (unsigned int k = 0; k < 9; ++k)
-          P[k] = TUinv[k] / theta;
-        const double J = determinant(F);
+          P[k] = per_reference * TUinv[k] / theta;
         for (unsigned int a = 0; a < 3; ++a)
           for (unsigned int b = 0; b < 3; ++b)
-            sigma[3 * a + b] = (RT[3 * a] * R[3 * b] + RT[3 * a + 1] * R[3 * b + 1] + RT[3 * a + 2] * R[3 * b + 2]) / J;
-        return p * p / (2 * K) + scale * scale * ss / (4 * G);
+            sigma[3 * a + b] =
+              (RT[3 * a] * R[3 * b] + RT[3 * a + 1] * R[3 * b + 1] + RT[3 * a + 2] * R[3 * b + 2]) * per_reference / J;
+        return per_reference * (p * p / (2 * K) + scale * scale * ss / (4 * G));
       }
     };
   } // namespace
@@ -226,5 +238,6 @@ namespace perideal
                     "isotropic hardening by radial return (Peridigm's 'Elastic Plastic Correspondence' and "
                     "'Elastic Plastic Hardening Correspondence'). Keys: Density, any two of Bulk modulus, "
                     "Shear modulus, Young's modulus, Poisson's ratio, Yield stress, Hardening modulus, "
+                    "Yield stress measure, "
                     "Stabilization, Hourglass coefficient, Silling coefficient, Thermal expansion coefficient.")
 } // namespace perideal

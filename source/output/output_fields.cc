@@ -179,7 +179,13 @@ namespace perideal
       double
       value(const ComputeData &data, const unsigned int i, const unsigned int) const override
       {
-        return double(data.bonds.offsets[i + 1] - data.bonds.offsets[i]);
+        // Its family F(i) only: with blocks of different horizons i also
+        // holds bonds to points whose family has i but that are beyond its
+        // own horizon (Bonds::family), which Peridigm does not count.
+        double n = 0;
+        for (std::size_t b = data.bonds.offsets[i]; b < data.bonds.offsets[i + 1]; ++b)
+          n += data.bonds.own(b);
+        return n;
       }
     };
 
@@ -266,7 +272,10 @@ namespace perideal
                       "together, numbered from 0 in the order of their smallest point index; -1 at virtual "
                       "points of no fragment).")
     PERIDEAL_REGISTER(OutputField, NumberOfNeighbors, "Number of neighbors",
-                      "the bonds of a point's family, broken ones included.")
+                      "the size of a point's family, the points within the horizon of its block, broken "
+                      "bonds included (Peridigm's count). With blocks of different horizons a point is "
+                      "also bonded to points whose family holds it but that lie beyond its own horizon: "
+                      "those bonds act on it but are not counted here.")
     PERIDEAL_REGISTER(OutputField, Block, "Block",
                       "the index of a point's block in Blocks/Names (on continuum cells: of their block).")
     PERIDEAL_REGISTER(OutputField, Rank, "Rank", "the MPI rank that owns a point.")
