@@ -4,6 +4,7 @@
 #include <perideal/base/format.h>
 #include <perideal/discretization/discretization.h>
 #include <perideal/discretization/size_estimate.h>
+#include <perideal/geometry/hexahedron.h>
 #include <perideal/neighborhood/partial_volumes.h>
 #include <perideal/simulation/deck.h>
 
@@ -237,6 +238,41 @@ namespace perideal
   }
 
   void
+  Discretization::check_cell_volumes() const
+  {
+    // The vertices carry about 16 digits of their distance from the origin
+    // and the volume is computed from their differences (hexahedron.h): a
+    // cell smaller than about 1e-10 of its distance has lost its shape to
+    // rounding. The message names the bad cell smallest relative to it.
+    unsigned int bad_volume = 0;
+    BestPoint    smallest(BestPoint::Order::smallest);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!(cloud.volume[i] > 0))
+        {
+          ++bad_volume;
+          const double *x        = &cloud.X[dim * i];
+          double        distance = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            distance += x[d] * x[d];
+          distance = std::sqrt(distance);
+          smallest.consider(cloud.cell[i]->diameter() / std::max(distance, std::numeric_limits<double>::min()),
+                            cloud.gid[i], x);
+        }
+    bad_volume = Utilities::MPI::sum(bad_volume, comm);
+    if (bad_volume == 0)
+      return;
+    const BestPoint worst = smallest.global(comm);
+    AssertThrow(false,
+                ExcMessage(std::to_string(bad_volume) + " cells have zero or negative volume (the cell of " +
+                           worst.describe() + "): " +
+                           (worst.value < 1e-10 ?
+                              "its size is " + sci(worst.value, 2) + " of its distance from the origin, below "
+                              "the resolution of a double there (Box and Text file points need 1e-10): place "
+                              "the body nearer the origin or use other units" :
+                              std::string("the mesh is degenerate or inverted"))));
+  }
+
+  void
   Discretization::build_points_and_bonds()
   {
     {
@@ -280,14 +316,7 @@ namespace perideal
                                         "or Region (material ids in the mesh on rank 0: " + list + ")"));
         }
       check_blocks_have_cells();
-      unsigned int bad_volume = 0;
-      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-        if (!(cloud.volume[i] > 0))
-          ++bad_volume;
-      bad_volume = Utilities::MPI::sum(bad_volume, comm);
-      AssertThrow(bad_volume == 0,
-                  ExcMessage(std::to_string(bad_volume) + " cells have zero or negative volume: "
-                             "the mesh is degenerate or inverted"));
+      check_cell_volumes();
     }
     {
       TimerOutput::Scope        t(timer, "setup: neighbor search");
@@ -472,7 +501,7 @@ namespace perideal
           // the nearest PD point's spacing (auto levels).
           if (n.distance - 0.5 * cell->diameter() <= (n.band + n.horizon) * (1 + 1e-9))
             {
-              const double ratio  = std::cbrt(cell->measure() / n.volume);
+              const double ratio  = std::cbrt(cell_volume(cell) / n.volume);
               const int    levels = virtual_point_levels >= 0 ? virtual_point_levels :
                                                                 std::max(0, int(std::lround(std::log2(ratio))));
               cell_virtual[cell->active_cell_index()] = 1 + levels;

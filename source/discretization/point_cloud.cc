@@ -1,5 +1,6 @@
 #include <perideal/base/expression.h>
 #include <perideal/discretization/point_cloud.h>
+#include <perideal/geometry/hexahedron.h>
 
 #include <deal.II/base/bounding_box.h>
 #include <deal.II/base/mpi.h>
@@ -70,7 +71,7 @@ namespace perideal
               const Point<dim> x = c->center();
               for (unsigned int d = 0; d < dim; ++d)
                 X.push_back(x[d]);
-              volume.push_back(c->measure());
+              volume.push_back(cell_volume(c));
               block.push_back(b);
               key.push_back(c->id().template to_binary<dim>());
               cell.push_back(c);
@@ -86,7 +87,7 @@ namespace perideal
           // The descendants r levels down, in lexicographic order of the
           // lattice; the child index of a hexahedron is ix + 2 iy + 4 iz.
           const unsigned int n          = 1u << levels;
-          const double       sub_volume = c->measure() / std::pow(8.0, levels);
+          const double       sub_volume = cell_volume(c) / std::pow(8.0, levels);
           const CellId       id         = c->id();
           const MappingQ1<dim> mapping;
           const auto         parent     = id.get_child_indices();

@@ -4,6 +4,7 @@
 // first-order cells read as one point each (gmsh_points.cc).
 #include <perideal/base/format.h>
 #include <perideal/geometry/gmsh_check.h>
+#include <perideal/geometry/gmsh_file.h>
 #include <perideal/geometry/gmsh_points.h>
 #include <perideal/geometry/scene.h>
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace perideal
@@ -150,10 +152,30 @@ namespace perideal
           GridTools::scale(scale, tria);
       }
 
+      /// An extruded section is sized before it is made (extrusion layers
+      /// can make any number of cells from a small file): its quadrilaterals
+      /// times the layers, one coarse cell each; bonds counted along z only
+      /// (a lower bound). A mesh read whole is sized once read.
+      bool
+      lattice(Lattice &l) const override
+      {
+        GmshMesh section;
+        if (thickness <= 0 || !read_gmsh_file(mesh_file, section))
+          return false;
+        double quadrilaterals = 0;
+        for (const GmshMesh::Element &e : section.elements)
+          quadrilaterals += e.type == 3; // Gmsh's 4-node quadrilateral
+        const double infinite = std::numeric_limits<double>::infinity();
+        l.cells               = {{quadrilaterals, 1, double(layers)}};
+        l.spacing             = {{infinite, infinite, thickness / layers}};
+        l.coarse_cells        = quadrilaterals * layers;
+        return true;
+      }
+
       std::string
       cells_key() const override
       {
-        return "Discretization/Gmsh/Mesh file";
+        return thickness > 0 ? "Discretization/Gmsh/Mesh file and Extrusion layers" : "Discretization/Gmsh/Mesh file";
       }
 
     private:

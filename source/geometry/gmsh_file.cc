@@ -153,26 +153,4 @@ namespace perideal
       }
     return major != 0;
   }
-
-  double
-  hex_jacobian(const std::array<Point<dim>, 8> &v, const std::array<double, 3> &t)
-  {
-    Tensor<2, dim> J; // J[i][d] = dx_i / dxi_d
-    for (unsigned int c = 0; c < 8; ++c)
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          double dN = 1;
-          for (unsigned int e = 0; e < dim; ++e)
-            {
-              const bool upper = (c >> e) & 1;
-              if (e == d)
-                dN *= upper ? 1 : -1;
-              else
-                dN *= upper ? t[e] : 1 - t[e];
-            }
-          for (unsigned int i = 0; i < dim; ++i)
-            J[i][d] += v[c][i] * dN;
-        }
-    return determinant(J);
-  }
 } // namespace perideal

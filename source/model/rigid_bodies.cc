@@ -7,6 +7,8 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/symmetric_tensor.h>
 
+#include <cmath>
+
 namespace perideal
 {
   using namespace dealii;
@@ -27,17 +29,29 @@ namespace perideal
     Vec
     solve_inertia(const double (&I)[3][3], const Vec &b)
     {
+      // Scaled to entries of order 1 by a power of two (exact: the result is
+      // the same to the bit): the eigenvalue solver squares the entries, and
+      // the inertia of a dense body (1e300 kg m^2) would overflow there.
+      double largest = 0;
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = 0; j < 3; ++j)
+          largest = std::max(largest, std::abs(I[i][j]));
+      Vec x = {{0, 0, 0}};
+      if (!(largest > 0))
+        return x;
+      int exponent = 0;
+      std::frexp(largest, &exponent);
+      const double scale = std::ldexp(1.0, exponent);
       SymmetricTensor<2, 3> S;
       for (unsigned int i = 0; i < 3; ++i)
         for (unsigned int j = i; j < 3; ++j)
-          S[i][j] = I[i][j];
-      const auto eig     = eigenvectors(S); // largest eigenvalue first
-      Vec        x       = {{0, 0, 0}};
+          S[i][j] = I[i][j] / scale;
+      const auto   eig   = eigenvectors(S); // largest eigenvalue first
       const double floor = 1e-12 * std::abs(eig[0].first);
       for (const auto &[lambda, e] : eig)
         if (lambda > floor && lambda > 0)
           {
-            const double coefficient = (e[0] * b[0] + e[1] * b[1] + e[2] * b[2]) / lambda;
+            const double coefficient = (e[0] * b[0] + e[1] * b[1] + e[2] * b[2]) / lambda / scale;
             for (unsigned int d = 0; d < 3; ++d)
               x[d] += coefficient * e[d];
           }
@@ -94,6 +108,30 @@ namespace perideal
         for (unsigned int d = 0; d < dim; ++d)
           reference_centre[k][d] = local[5 * k + 2 + d] / bodies[k].mass;
       }
+    check_inertia_finite();
+  }
+
+  void
+  RigidBodies::check_inertia_finite() const
+  {
+    // The motion is solved from the mass and second moments about the origin
+    // (sums()): a density whose moments leave the range of a double would stop
+    // the run deep inside an eigenvalue solver instead of here.
+    std::vector<double> inertia(bodies.size(), 0.0);
+    for (unsigned int k = 0; k < bodies.size(); ++k)
+      for (const unsigned int i : bodies[k].points)
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const double y = cloud->X[dim * i + d];
+            inertia[k] += (*mass_density)[i] * cloud->volume[i] * y * y;
+          }
+    Utilities::MPI::sum(inertia, comm, inertia);
+    for (unsigned int k = 0; k < bodies.size(); ++k)
+      AssertThrow(std::isfinite(bodies[k].mass) && std::isfinite(inertia[k]),
+                  ExcMessage("Blocks/" + bodies[k].name + ": the rigid block's mass (" + sci(bodies[k].mass, 3) +
+                             ") or moment of inertia (" + sci(inertia[k], 3) +
+                             ") leaves the range of a double: its material's Density is too large (or the "
+                             "block too far from the origin) for the rigid-body motion"));
   }
 
   std::vector<RigidBodies::Sums>

@@ -79,7 +79,11 @@ namespace perideal
       setup() override
       {
         RunRecord &record = access->record;
-        record.dt         = fixed_dt > 0 ? fixed_dt : safety_factor * record.dt_stable;
+        AssertThrow(fixed_dt > 0 || record.dt_stable < std::numeric_limits<double>::max(),
+                    ExcMessage("Solver/Verlet/Fixed dt is 0 (the automatic step), but no block gives a stable time "
+                               "step: every block is rigid (or has no bonds) and no contact stiffness limits it: "
+                               "set Solver/Verlet/Fixed dt"));
+        record.dt = fixed_dt > 0 ? fixed_dt : safety_factor * record.dt_stable;
         if (fixed_dt > record.dt_stable)
           record.warnings.push_back("Fixed dt " + sci(fixed_dt) + " exceeds the stable estimate " +
                                     sci(record.dt_stable) + " (" + sci(fixed_dt / record.dt_stable, 3) +

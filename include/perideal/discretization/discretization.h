@@ -110,6 +110,10 @@ namespace perideal
     /// Blocks/Names claims no cell (a silent no-op otherwise).
     void
     check_blocks_have_cells() const;
+    /// Collective: stops if a point's cell has no positive volume, naming
+    /// the cell and whether it is below the resolution of a double.
+    void
+    check_cell_volumes() const;
     /// DoFs, point cloud and families of the current partition.
     void
     build_points_and_bonds();

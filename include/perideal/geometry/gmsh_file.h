@@ -1,9 +1,10 @@
 #pragma once
 // A Gmsh mesh file as the user wrote it: its nodes and elements, read before
 // (or instead of) deal.II's reader, which inverts left-handed cells, reorders
-// vertices and takes hexahedra only; and the trilinear map of a hexahedron.
+// vertices and takes hexahedra only.
 
 #include <perideal/base/input.h>
+#include <perideal/geometry/hexahedron.h>
 
 #include <deal.II/base/point.h>
 
@@ -32,10 +33,4 @@ namespace perideal
   /// version, not well formed).
   bool
   read_gmsh_file(const std::string &file, GmshMesh &mesh);
-
-  /// The Jacobian determinant of the trilinear map of a hexahedron with the
-  /// vertices @p v in deal.II's lexicographic order, at the reference point
-  /// @p t in [0, 1]^3 (a corner when every t[d] is 0 or 1).
-  double
-  hex_jacobian(const std::array<dealii::Point<dim>, 8> &v, const std::array<double, 3> &t);
 } // namespace perideal

@@ -104,6 +104,10 @@ namespace perideal
     sums(const double *u, const double *v, const double *f) const;
     Motion
     motion(const Body &body, const Sums &s) const;
+    /// Collective: stops, naming the block, if its mass or second moment is
+    /// not finite.
+    void
+    check_inertia_finite() const;
 
     std::vector<std::array<double, 3>> reference_centre; // per body: its centre of mass at X
     const PointCloud          *cloud        = nullptr;

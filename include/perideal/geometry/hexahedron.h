@@ -1,0 +1,38 @@
+#pragma once
+// The trilinear map of a hexahedron given by its 8 vertices in deal.II's
+// lexicographic order (vertex k at the reference corner (k & 1, (k >> 1) & 1,
+// k >> 2)): its Jacobian and its volume, computed from the vertices relative
+// to the first, so that a cell far from the origin compared with its size
+// keeps the digits of its edges (deal.II's measure() multiplies absolute
+// coordinates: a cell of size 1e-6 at 0.5 loses all of them).
+
+#include <perideal/base/input.h>
+
+#include <deal.II/base/point.h>
+
+#include <array>
+
+namespace perideal
+{
+  /// The Jacobian determinant at the reference point @p t in [0, 1]^3 (a
+  /// corner when every t[d] is 0 or 1).
+  double
+  hex_jacobian(const std::array<dealii::Point<dim>, 8> &v, const std::array<double, 3> &t);
+
+  /// The volume: the Jacobian integrated by the 2-point Gauss rule in each
+  /// direction, exact for the trilinear map (its Jacobian is quadratic in each
+  /// reference coordinate).
+  double
+  hex_volume(const std::array<dealii::Point<dim>, 8> &v);
+
+  /// hex_volume() of a deal.II hexahedral cell.
+  template <typename CellIterator>
+  double
+  cell_volume(const CellIterator &cell)
+  {
+    std::array<dealii::Point<dim>, 8> v;
+    for (unsigned int k = 0; k < 8; ++k)
+      v[k] = cell->vertex(k);
+    return hex_volume(v);
+  }
+} // namespace perideal
