@@ -49,7 +49,9 @@ import argparse
 import math
 import os
 import re
+import stat
 import sys
+import tempfile
 import xml.parsers.expat
 
 
@@ -288,9 +290,115 @@ def parse_xml(text):
     return root
 
 
+# ---------------------------------------------------------------- the files
+#
+# Every file the converter opens goes through open_regular(): os.stat first,
+# so a FIFO, a device (/dev/zero), a directory or a socket is refused by name
+# before it is opened (a FIFO would block the open, /dev/zero never ends);
+# then opened without blocking and checked again on the open descriptor (the
+# path may have changed in between). read_text() adds the size limit and the
+# decoding; a problem is an InputError whose message names the file (and the
+# line where there is one).
+
+MAX_DECK_BYTES = 16 << 20  # a Peridigm deck is a few kB; beyond this it is not one
+
+UTF8_BOM = b"\xef\xbb\xbf"
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+UTF32_BOMS = (b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")
+
+
+class InputError(Exception):
+    """A file the converter cannot use; the message names it (and the line)."""
+
+
+def _file_kind(mode):
+    for test, name in ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def regular_file_problem(path):
+    """Why PATH cannot be read as a file ('no such file', 'a directory', ...),
+    or None if it is a regular file. Never opens it."""
+    try:
+        st = os.stat(path)
+    except OSError as e:
+        return e.strerror.lower() if e.strerror else str(e)
+    if not stat.S_ISREG(st.st_mode):
+        return "it is %s, not a regular file" % _file_kind(st.st_mode)
+    return None
+
+
+def open_regular(path, what):
+    """PATH opened for reading in binary mode, if it is a regular file.
+    WHAT names it in messages ('the deck', '--mesh')."""
+    problem = regular_file_problem(path)
+    if problem:
+        raise InputError("%s: cannot read %s: %s" % (path, what, problem))
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as e:
+        raise InputError("%s: cannot read %s: %s" % (path, what, e.strerror))
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise InputError("%s: cannot read %s: it is not a regular file" % (path, what))
+    return os.fdopen(fd, "rb")
+
+
+def decode_text(data, path, what):
+    """The text of DATA, a file's bytes: UTF-8 (a byte-order mark is skipped),
+    or UTF-16 with its byte-order mark (decoded). Anything else (UTF-32, a NUL
+    byte, bytes that are not UTF-8) is an InputError naming the line."""
+    if data.startswith(UTF32_BOMS):
+        raise InputError("%s: cannot read %s: it is UTF-32 text (byte-order mark); save it as UTF-8" % (path, what))
+    if data.startswith(UTF16_BOMS):
+        try:
+            return data.decode("utf-16")
+        except UnicodeDecodeError as e:
+            line = data[:e.start].decode("utf-16", "replace").count("\n") + 1
+            raise InputError("%s:%d: cannot read %s: it starts with a UTF-16 byte-order mark but is not "
+                             "valid UTF-16 (%s); save it as UTF-8" % (path, line, what, e.reason))
+    if data.startswith(UTF8_BOM):
+        data = data[len(UTF8_BOM):]
+    nul = data.find(b"\x00")
+    if nul >= 0:
+        line = data[:nul].count(b"\n") + 1
+        odd, even = data[1::2], data[0::2]
+        if any(a.count(0) >= 0.9 * len(a) and b.count(0) <= 0.05 * len(b) for a, b in ((odd, even), (even, odd))):
+            raise InputError("%s:%d: cannot read %s: NUL bytes, as in UTF-16 text without a byte-order mark; "
+                             "save it as UTF-8" % (path, line, what))
+        raise InputError("%s:%d: cannot read %s: a NUL byte: a binary file, not a text deck" % (path, line, what))
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data[:e.start].count(b"\n") + 1
+        column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
+        raise InputError("%s:%d: cannot read %s: byte 0x%02x at column %d is not UTF-8 text; save the file as "
+                         "UTF-8" % (path, line, what, data[e.start], column))
+
+
+def read_text(path, what, limit=MAX_DECK_BYTES):
+    """The text of the regular file PATH (open_regular, decode_text), at most
+    LIMIT bytes; an empty file is an InputError too."""
+    with open_regular(path, what) as f:
+        try:
+            data = f.read(limit + 1)
+        except OSError as e:
+            raise InputError("%s: cannot read %s: %s" % (path, what, e.strerror))
+    if len(data) > limit:
+        raise InputError("%s: cannot read %s: it is larger than %d MiB, which no Peridigm deck is"
+                         % (path, what, limit >> 20))
+    text = decode_text(data, path, what)
+    if not text.strip():
+        raise InputError("%s: cannot read %s: the file is empty" % (path, what))
+    return text
+
+
 def read_deck(path):
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    text = read_text(path, "the deck")
     if text.lstrip().startswith("<"):
         root = parse_xml(text)
     else:
@@ -298,9 +406,14 @@ def read_deck(path):
         # Peridigm's YAML decks hang everything under 'Peridigm:'.
         if len(root.children) == 1:
             (only,) = root.children.values()
+            if only.name == "Peridigm" and not only.is_list():
+                raise DeckError(only.line, "'Peridigm' has a value; the deck's sections (Discretization, "
+                                "Materials, ...) belong under it")
             if only.is_list() and only.name == "Peridigm":
                 only.parent = None
                 return only
+    if not root.children:
+        raise DeckError(max(root.line, 1), "no section: the deck holds only comments")
     root.parent = None
     return root
 
@@ -534,9 +647,9 @@ def translate_expression(text, variables=("x", "y", "z", "t")):
 
 
 def is_number(s):
+    """True for a finite number: 'inf' and 'nan' are no value of a deck."""
     try:
-        float(s)
-        return True
+        return math.isfinite(float(s))
     except (TypeError, ValueError):
         return False
 
@@ -561,8 +674,8 @@ def cells_other_than_hexahedra(path):
     plural = {"tetrahedron": "tetrahedra", "prism": "prisms", "pyramid": "pyramids"}
     counts = {}
     try:
-        with open(path) as f:
-            lines = iter(f.read().splitlines())
+        with open_regular(path, "--mesh") as f:
+            lines = iter([line.decode("utf-8", "replace") for line in f])
         version = None
         for line in lines:
             if line.strip() == "$MeshFormat":
@@ -582,7 +695,7 @@ def cells_other_than_hexahedra(path):
                         if kind in names:
                             counts[names[kind]] = counts.get(names[kind], 0) + 1
                 break
-    except (OSError, UnicodeDecodeError, ValueError, IndexError, StopIteration):
+    except (InputError, OSError, ValueError, IndexError, StopIteration):
         return ""
     return " and ".join("%d %s" % (n, name if n == 1 else plural[name]) for name, n in sorted(counts.items()))
 
@@ -608,9 +721,11 @@ class Converter:
         self.labels = set()  # compute output labels (globals CSV columns)
         self.materials = {}
         self.damage_models = {}
+        # The files the conversion reads or names as input: never its output.
+        self.input_files = [("the deck", deck_path), ("the --mesh", args.mesh)]
         for spec in args.node_set or []:
             if "=" not in spec:
-                sys.exit("peridigm_to_prm.py: --node-set %s: expected NAME=SPEC" % spec)
+                raise InputError("--node-set %s: expected NAME=SPEC" % spec)
             name, what = spec.split("=", 1)
             self.node_set_specs[name.strip()] = what.strip()
 
@@ -694,7 +809,7 @@ class Converter:
             return None
         if c.is_list() or not is_number(c.value) or (integer and not re.fullmatch(r"\s*[-+]?\d+\s*", c.value)):
             self.cannot(c, "'%s' is not %s" % (c.value if not c.is_list() else "a list",
-                                               "an integer" if integer else "a number"), essential)
+                                               "an integer" if integer else "a finite number"), essential)
             return None
         return c.value.strip()
 
@@ -868,15 +983,19 @@ class Converter:
             if mesh is not None:
                 t = out.sub("Text file")
                 here = os.path.join(os.path.dirname(os.path.abspath(self.deck)), mesh)
-                if not os.path.isabs(mesh) and os.path.isfile(here):
+                if not os.path.isabs(mesh) and os.path.lexists(here):
                     t.comment("'%s' beside the deck; its block N is material id N\n(Blocks/*/Material ids)." % mesh)
                     mesh = os.path.normpath(here)
                 else:
                     t.comment("Its block N is material id N (Blocks/*/Material ids); a relative\npath is taken "
                               "from the directory pd_app starts in.")
-                    if not os.path.isfile(mesh):
-                        self.warn(d.children.get("Input Mesh File"), "the point file '%s' is not found (neither "
-                                  "beside the deck nor from here)" % mesh)
+                problem = regular_file_problem(mesh)
+                if problem and os.path.lexists(mesh):
+                    self.cannot(d.children.get("Input Mesh File"), "the point file '%s': %s" % (mesh, problem))
+                elif problem:
+                    self.warn(d.children.get("Input Mesh File"), "the point file '%s' is not found (neither "
+                              "beside the deck nor from here)" % mesh)
+                self.input_files.append(("the deck's point file", mesh))
                 t.set("File", mesh)
         elif dtype is not None:
             self.cannot(d.children.get("Type"), "the discretization type '%s' has no PeriDeal equivalent" % dtype)
@@ -918,6 +1037,12 @@ class Converter:
         z0 = self.number(g, "Z Origin", required=True)
         nr = self.number(g, "Number Points Radius", required=True, integer=True)
         self.child(g, "Type")  # PdQuickGrid, repeated in the users' guide
+        if nr is not None and int(nr) < 1:
+            self.cannot(g.children["Number Points Radius"], "must be at least 1, got %s" % nr)
+            nr = None
+        if ri is not None and ro is not None and float(ro) <= float(ri):
+            self.cannot(g.children["Outer Radius"], "must be larger than the Inner Radius %s, got %s" % (ri, ro))
+            ro = None
         if None in (ri, ro, length, cx, cy, z0, nr):
             self.leftovers(g)
             return
@@ -1268,18 +1393,18 @@ class Converter:
             corners = rest.split(":")
             if len(corners) != 2 or any(len(x.split(",")) != 3 or not all(is_number(v) for v in x.split(","))
                                         for x in corners):
-                sys.exit("peridigm_to_prm.py: --node-set %s=%s: expected box:X0,Y0,Z0:X1,Y1,Z1" % (name, spec))
+                raise InputError("--node-set %s=%s: expected box:X0,Y0,Z0:X1,Y1,Z1" % (name, spec))
             self.add_region(name, "Box", [("Lower corner", corners[0]), ("Upper corner", corners[1])])
         elif kind == "expression":
             self.add_region(name, "Expression", [("Expression", rest)])
         elif kind == "group":
             parts = rest.split(":")
             if not parts[0].isdigit() or (len(parts) > 1 and parts[1] not in ("2", "3")):
-                sys.exit("peridigm_to_prm.py: --node-set %s=%s: expected group:N or group:N:DIM" % (name, spec))
+                raise InputError("--node-set %s=%s: expected group:N or group:N:DIM" % (name, spec))
             self.add_region(name, "Physical group", [("Physical group", parts[0]),
                                                      ("Physical group dimension", parts[1] if len(parts) > 1 else "3")])
         else:
-            sys.exit("peridigm_to_prm.py: --node-set %s=%s: SPEC is box:..., expression:... or group:..."
+            raise InputError("--node-set %s=%s: SPEC is box:..., expression:... or group:..."
                      % (name, spec))
         return name
 
@@ -1324,6 +1449,9 @@ class Converter:
             if not c.is_list():
                 c.used = True
                 self.node_set_defs[c.name] = c
+                beside = os.path.join(os.path.dirname(os.path.abspath(self.deck)), c.value.strip())
+                if c.value.strip() and os.path.lexists(beside):
+                    self.input_files.append(("the node set file", beside))
         names = []
         uses_rnd = False
         for c in b.children.values():
@@ -1657,6 +1785,9 @@ class Converter:
         else:  # Implicit: Newmark
             out.set("Type", "Newmark", "Peridigm's Implicit: Newmark-beta.")
             dt = self.number(k, "Fixed dt", required=True)
+            if dt is not None and float(dt) <= 0:
+                self.cannot(k.children["Fixed dt"], "must be positive, got %s" % dt)
+                dt = None
             if t0 is not None and not stage:
                 out.set("Initial time", t0)
             if t1 is not None:
@@ -1796,8 +1927,86 @@ SECTION_ORDER = ("Discretization", "Materials", "Damage models", "Blocks", "Boun
                  "Contact models", "Contact", "Computes", "Solver", "Output")
 
 
+def same_file(a, b):
+    """True if paths A and B are one file (through a symbolic or hard link too)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_output_path(output, inputs):
+    """Raises InputError if OUTPUT is one of INPUTS ((what, path) pairs: the
+    files the conversion reads), the same file by another name included."""
+    for what, path in inputs:
+        if path and same_file(output, path):
+            raise InputError("-o %s is %s %s (the same file): the converter never overwrites a file it reads; "
+                             "nothing written, give another output name" % (output, what, path))
+
+
+def check_output_folder(path):
+    """Raises InputError if PATH cannot become the parameter file: its folder
+    is missing, or it is there but not a regular file (a directory, a device)."""
+    target = os.path.realpath(path)
+    if not os.path.isdir(os.path.dirname(target)):
+        raise InputError("%s: cannot write the parameter file: the folder %s does not exist"
+                         % (path, os.path.dirname(path) or "."))
+    if os.path.lexists(target):
+        problem = regular_file_problem(target)
+        if problem:
+            raise InputError("%s: cannot write the parameter file: %s" % (path, problem))
+
+
+def write_whole(path, text):
+    """TEXT written to PATH whole or not at all: into a temporary file in the
+    same folder, renamed over PATH (over the file a symbolic link PATH points
+    to) only once complete, with the old file's permissions. Raises InputError."""
+    check_output_folder(path)
+    target = os.path.realpath(path)
+    folder = os.path.dirname(target)
+    if os.path.lexists(target):
+        mode = stat.S_IMODE(os.stat(target).st_mode)
+    else:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    temporary = None
+    try:
+        fd, temporary = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(target) + ".", suffix=".tmp")
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.chmod(temporary, mode)
+        os.replace(temporary, target)
+        temporary = None
+    except OSError as e:
+        raise InputError("%s: cannot write the parameter file: %s" % (path, e.strerror or e))
+    finally:
+        if temporary is not None:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with pd_app's discipline: 'Error: ...' and exit status 1."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        print("Error: %s" % message, file=sys.stderr)
+        sys.exit(1)
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(
+    try:
+        return convert(argv)
+    except InputError as e:
+        print("Error: %s" % e, file=sys.stderr)
+        return 1
+
+
+def convert(argv):
+    ap = ArgumentParser(
         prog="peridigm_to_prm.py",
         description="Convert a Peridigm input deck (YAML or XML) into a PeriDeal parameter file.",
         epilog="Unconvertible keys are listed on standard error as DECK:LINE: cannot convert "
@@ -1814,18 +2023,33 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1, help="Random seed of conditions that use rnd() (default 1)")
     args = ap.parse_args(argv)
 
+    # What the conversion reads is never its output; checked before anything is read.
+    inputs = [("the deck", args.deck), ("the --mesh", args.mesh)]
+    if args.output:
+        check_output_path(args.output, inputs)
+        check_output_folder(args.output)
+    if args.mesh:
+        problem = regular_file_problem(args.mesh)
+        if problem:
+            raise InputError("--mesh %s: cannot read the mesh: %s" % (args.mesh, problem))
     try:
         root = read_deck(args.deck)
-    except OSError as e:
-        print("Error: cannot read %s: %s" % (args.deck, e.strerror), file=sys.stderr)
-        return 1
     except DeckError as e:
         print("%s:%d: syntax error: %s" % (args.deck, e.line, e.message), file=sys.stderr)
         print("Error: %s could not be read; nothing written" % args.deck, file=sys.stderr)
         return 1
 
     conv = Converter(args.deck, root, args)
-    conv.run()
+    try:
+        conv.run()
+    except (InputError, DeckError):
+        raise
+    except Exception as e:  # a bug of the converter: said as one line, nothing written
+        print("Error: the converter failed on %s (a bug; please report it with the deck): %s: %s; nothing written"
+              % (args.deck, type(e).__name__, e), file=sys.stderr)
+        return 1
+    if args.output:
+        check_output_path(args.output, conv.input_files)
     for _, _, text, _ in sorted(conv.messages):
         print(text, file=sys.stderr)
 
@@ -1858,10 +2082,13 @@ def main(argv=None):
               "(--partial writes the rest)" % (conv.essential_failures, args.deck), file=sys.stderr)
         return 1
     if args.output:
-        with open(args.output, "w", encoding="utf-8") as f:
-            f.write(text)
+        write_whole(args.output, text)
     else:
-        sys.stdout.write(text)
+        try:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        except OSError as e:
+            raise InputError("cannot write the parameter file to standard output: %s" % (e.strerror or e))
     if conv.essential_failures:
         print("Error: %d essential key(s) of %s could not be converted; the rest was written (--partial)"
               % (conv.essential_failures, args.deck), file=sys.stderr)
