@@ -435,9 +435,11 @@ class Prm:
     def set(self, key, value, comment=None):
         """Set key (again: its value changes in place); new keys go before the
         first subsection, with their comment lines."""
-        for item in self.items:
+        for at, item in enumerate(self.items):
             if item[0] == "set" and item[1] == key:
                 item[2] = value
+                if comment:
+                    self.items[at:at] = [("comment", line) for line in comment.split("\n")]
                 return
         at = next((i for i, item in enumerate(self.items) if item[0] == "sub"), len(self.items))
         new = [("comment", line) for line in comment.split("\n")] if comment else []
@@ -721,6 +723,7 @@ class Converter:
         self.labels = set()  # compute output labels (globals CSV columns)
         self.materials = {}
         self.damage_models = {}
+        self.hourglass = {}  # material -> (Peridigm's Hourglass Coefficient, its node, the .prm subsection)
         # The files the conversion reads or names as input: never its output.
         self.input_files = [("the deck", deck_path), ("the --mesh", args.mesh)]
         for spec in args.node_set or []:
@@ -875,6 +878,8 @@ class Converter:
         self.materials_section(self.child(top, "Materials"))
         self.damage_section(self.child(top, "Damage Models"))
         self.blocks_section(self.child(top, "Blocks"))
+        self.scale_hourglass()
+        self.check_bonded_blocks(self.child(top, "Blocks"))
         self.conditions_section(self.child(top, "Boundary Conditions"))
         self.contact_section(self.child(top, "Contact"))
         self.computes_section(self.child(top, "Compute Class Parameters"))
@@ -1195,10 +1200,15 @@ class Converter:
                 hg = self.number(c, "Hourglass Coefficient", required=True)
                 if hg is not None:
                     s.set("Stabilization", "Hourglass")
-                    s.set("Hourglass coefficient", hg)
+                    s.set("Hourglass coefficient", hg)  # scaled by scale_hourglass() once the horizons are known
+                    self.hourglass[c.name] = (hg, c.children["Hourglass Coefficient"], s)
                 if model == "Elastic Correspondence":
                     s.set("Strain measure", "Green-Lagrange", "Peridigm's Elastic Correspondence: Green-Lagrange "
                           "strain.")
+            if self.MODELS[model] == "Elastic plastic correspondence":
+                s.set("Yield stress measure", "Cauchy",
+                      "Peridigm yields on the von Mises stress of the Cauchy stress; PeriDeal's\n"
+                      "default (Kirchhoff) yields on J times it (doc/models.md).")
             if model == "Linear LPS Partial Volume":
                 self.warn(c.children["Material Model"], "PeriDeal's LPS is the ordinary (not linearized) "
                           "model and its partial volumes come from the cells' geometry "
@@ -1216,6 +1226,7 @@ class Converter:
         "Time Dependent Critical Stretch": "Time dependent critical stretch",
         "User Defined Time Dependent Critical Stretch": "Time dependent critical stretch",
         "Von Mises Stress": "Von Mises stress",
+        "Critical Energy": "Critical energy",
     }
 
     def damage_section(self, m):
@@ -1255,6 +1266,8 @@ class Converter:
                               "Peridigm's function of t: %s" % expr_node.value.strip())
                     except ExprError as e:
                         self.cannot(expr_node, "the function '%s': %s" % (expr_node.value.strip(), e))
+            elif model == "Critical Energy":
+                self.critical_energy(c, s)
             elif model == "Von Mises Stress":
                 for key, pkey in (("Critical Von Mises Stress", "Critical von Mises stress"),
                                   ("Critical Damage", "Critical damage"), ("Threshold Damage", "Threshold damage")):
@@ -1273,6 +1286,130 @@ class Converter:
             self.leftovers(c)
             names.append(c.name)
         out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+
+    def critical_energy(self, c, s):
+        """Peridigm's Critical Energy (the DLR EnergyReleaseDamageModel): its
+        'Critical Energy' G (or, alone, 'Critical Energy Tension') as PeriDeal's
+        Critical energy release rate 2 G. Peridigm breaks a bond when
+        |t_ij e| + |t_ji e| > 16 G / (pi delta^4) (t the LPS scalar force state,
+        e the extension); PeriDeal when its bond energy (t_ij + t_ji) e / 2 >
+        4 G_c / (pi delta^4): the same bonds (in tension) for G_c = 2 G."""
+        g = self.number(c, "Critical Energy")
+        if g is None:
+            tension = self.child(c, "Critical Energy Tension")
+            others = [k for k in ("Critical Energy Compression", "Critical Energy Shear", "Power Law", "Separated")
+                      if k in c.children]
+            if tension is not None and not others:
+                g = self.number(c, "Critical Energy Tension")
+            elif tension is None and not others:
+                self.cannot(c, "'Critical Energy' is missing", path=c.path() + "/Critical Energy")
+        for key in ("Critical Energy Compression", "Critical Energy Shear", "Power Law", "Separated"):
+            k = self.child(c, key)
+            if k is not None:
+                self.cannot(k, "PeriDeal's Critical energy has one G_c for a bond's whole energy (and compression "
+                            "breaks nothing): no separate tension, compression and shear energies or criteria")
+        for k in [k for k in c.children.values() if k.name.startswith("Interblock")]:
+            k.used = True
+            self.cannot(k, "PeriDeal's Critical energy has no energy of its own for bonds between blocks (a block with "
+                        "it bonds only to blocks with the same damage model and horizon)")
+        only = self.boolean(c, "Only Tension")
+        if only is False:
+            self.cannot(c.children["Only Tension"], "PeriDeal's Critical energy breaks stretched bonds only")
+        for key in ("Plane Stress", "Plane Strain"):
+            if self.boolean(c, key):
+                self.cannot(c.children[key], "PeriDeal's w_c = 4 G_c / (pi delta^4) is the three-dimensional one")
+        detached = self.child(c, "Detached Nodes Check")
+        if detached is not None:
+            self.cannot(detached, "PeriDeal has no such check; its 'Critical damage to neglect material point' "
+                        "frees a point that has lost its bonds", essential=False)
+        factor = self.number(c, "Degradation Factor")
+        if factor is not None and float(factor) != 1:
+            self.cannot(c.children["Degradation Factor"], "PeriDeal breaks a bond at once (a degradation factor of 1)")
+        if g is not None:
+            s.set("Critical energy release rate", fmt(2 * float(g)),
+                  "2 x Peridigm's Critical Energy %s: Peridigm breaks a bond when |t_ij e| + |t_ji e|\n"
+                  "> 16 G / (pi delta^4), PeriDeal when (t_ij + t_ji) e / 2 > 4 G_c / (pi delta^4):\n"
+                  "the same bonds in tension for G_c = 2 G (doc/peridigm.md)." % g)
+            self.warn(c.children.get("Critical Energy") or c.children.get("Critical Energy Tension"),
+                      "written as Critical energy release rate = 2 x %s: with the same number Peridigm breaks a bond "
+                      "at twice the bond energy PeriDeal does (16 G against 8 G_c over pi delta^4 for "
+                      "(t_ij + t_ji) e); Peridigm defines it for Elastic (LPS) blocks only, PeriDeal uses each "
+                      "material's own bond energy" % g)
+
+    def block_horizons(self):
+        """[(PeriDeal block name, material, damage model, horizon text or None)]."""
+        disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
+        out = []
+        for c, dnames, material, damage, h in getattr(self, "peridigm_blocks", []):
+            name = dnames[0] if len(dnames) == 1 else c.name
+            out.append((name, material, damage, h[0] if h else disc_h))
+        return out
+
+    def scale_hourglass(self):
+        """Peridigm's hourglass force on a bond is |Y| times PeriDeal's for the
+        same coefficient C (doc/models.md: Peridigm multiplies by Y where PeriDeal
+        has Y/|Y|). No constant makes them equal bond by bond; C' = C 2 delta / 3
+        makes the two forces' total stiffness against a zero-energy mode (|z.M|
+        the same on every bond) equal for a full spherical family: C' sum_j V_j /
+        |xi| = C sum_j V_j, and the mean of 1/|xi| over a sphere is 3 / (2 delta)."""
+        blocks = self.block_horizons()
+        for material, (hg, node, s) in self.hourglass.items():
+            horizons = sorted(set(float(h) for _, m, _, h in blocks if m == material and h is not None))
+            if not horizons:
+                self.warn(node, "Peridigm's hourglass force is |Y| times PeriDeal's for the same coefficient, and "
+                          "no block with a horizon uses this material: copied as it is, not scaled by 2 delta / 3")
+                continue
+            delta = horizons[0]
+            scaled = float(hg) * 2 * delta / 3
+            s.set("Hourglass coefficient", "%.12g" % scaled,
+                  "Peridigm's Hourglass Coefficient %s x 2 delta / 3, delta = %s.\n"
+                  "Peridigm's hourglass force on a bond is |Y| times PeriDeal's for the same\n"
+                  "coefficient, so none is exact; this one gives the same total stiffness\n"
+                  "against a zero-energy mode for a full spherical family (the mean of 1/|xi|\n"
+                  "over it is 3 / (2 delta)).\n"
+                  "In the deck's unit of length." % (hg, "%g" % delta))
+            self.warn(node, "written as Hourglass coefficient = %s x 2 x %g / 3 = %.6g: Peridigm's hourglass force "
+                      "on a bond is |Y| times PeriDeal's for the same coefficient (doc/models.md); the two agree "
+                      "in total stiffness for a full spherical family, not bond by bond (short bonds are stiffer, "
+                      "long ones softer in PeriDeal)" % (hg, delta, scaled))
+            if len(horizons) > 1:
+                self.warn(node, "the blocks of this material have different horizons (%s): scaled with the "
+                          "smallest" % ", ".join("%g" % h for h in horizons))
+
+    OWN_LAW_DAMAGE = ("Critical energy", "Von Mises stress")  # not a stretch criterion (pd_app's force_model.cc)
+    HORIZON_ONE = ("LPS", "Elastic plastic", "Viscoelastic", "Elastic correspondence",
+                   "Elastic plastic correspondence")
+
+    def check_bonded_blocks(self, node):
+        """What pd_app refuses of blocks within a horizon of each other, which
+        the converter cannot see (it does not know which blocks touch): named
+        as warnings with what to do."""
+        blocks = self.block_horizons()
+        if node is None or len(blocks) < 2:
+            return
+        models = {}
+        for name, material, _, _ in blocks:
+            models.setdefault(self.materials.get(material), []).append(name)
+        models.pop(None, None)
+        if len(models) > 1:
+            self.warn(node, "the blocks have different material models (%s): pd_app refuses blocks of different "
+                      "models within a horizon of each other ('bonds between models are not defined'). If they "
+                      "touch, give them one model with different constants; different models only for blocks "
+                      "more than a horizon apart (e.g. meeting by contact)"
+                      % "; ".join("%s: %s" % (m, ", ".join(n)) for m, n in sorted(models.items())))
+        damage = {name: self.damage_models.get(d) for name, _, d, _ in blocks}
+        if any(d in self.OWN_LAW_DAMAGE for d in damage.values()) and len(set(damage.values())) > 1:
+            self.warn(node, "the blocks have different damage models (%s), and %s decides by a law of its own: "
+                      "pd_app refuses two such blocks within a horizon of each other (the two halves of a bond "
+                      "would follow different laws). If they touch, give them the same damage model"
+                      % ("; ".join("%s: %s" % (n, d or "none") for n, d in damage.items()),
+                         " or ".join(sorted(set(d for d in damage.values() if d in self.OWN_LAW_DAMAGE)))))
+        horizons = set(h for _, _, _, h in blocks if h is not None)
+        uneven = sorted(set(self.materials.get(m) for _, m, _, _ in blocks) & set(self.HORIZON_ONE))
+        if len(horizons) > 1 and uneven:
+            self.warn(node, "the blocks have different horizons (%s): pd_app's %s refuse blocks of different horizons "
+                      "bonded to each other (and Critical energy blocks sharing bonds need one horizon): give the "
+                      "blocks that touch one horizon" % (", ".join(sorted(horizons)), ", ".join(uneven)))
 
     # Blocks -----------------------------------------------------------------
 
@@ -1829,6 +1966,28 @@ class Converter:
         "Global_Angular_Momentum": ("Angular momentum", "Global_Angular_Momentum"),
     }
 
+    LPS_ONLY_FIELDS = ("Dilatation", "Weighted_Volume")
+
+    def field_of_these_blocks(self, v):
+        """False (and named) for an output variable PeriDeal has for LPS blocks
+        only when no block is LPS: pd_app refuses a field no block has."""
+        if v.name not in self.LPS_ONLY_FIELDS or not getattr(self, "peridigm_blocks", None):
+            return True
+        models = {}
+        for name, material, _, _ in self.block_horizons():
+            models.setdefault(self.materials.get(material), []).append(name)
+        models.pop(None, None)
+        if not models or "LPS" in models:
+            others = sorted(n for m, names in models.items() if m != "LPS" for n in names)
+            if others:
+                self.warn(v, "PeriDeal's '%s' is a field of LPS blocks only; blocks %s have none"
+                          % (self.FIELDS[v.name], ", ".join(others)))
+            return True
+        self.cannot(v, "PeriDeal's '%s' is a field of LPS (Peridigm's Elastic) only, and no block is LPS (%s): "
+                    "dropped, pd_app would refuse it" % (self.FIELDS[v.name], "; ".join(
+                        "%s: %s" % (m, ", ".join(n)) for m, n in sorted(models.items()))), essential=False)
+        return False
+
     def output_sections(self, sections):
         if not sections:
             return
@@ -1864,7 +2023,7 @@ class Converter:
                     if not on:
                         continue
                     if v.name in self.FIELDS:
-                        if self.FIELDS[v.name] not in fields:
+                        if self.FIELDS[v.name] not in fields and self.field_of_these_blocks(v):
                             fields.append(self.FIELDS[v.name])
                     elif v.name in self.GLOBALS:
                         wanted_globals.append(v)
