@@ -20,6 +20,14 @@ Features it converts only approximately are named as 'DECK:LINE: warning:
 concern output (an output variable PeriDeal does not write, a compute class
 it does not have) are reported but are not essential.
 
+Files: the deck and --mesh must be regular files (checked before they are
+opened: a FIFO, a device or a directory is refused by name), a deck at most
+16 MiB of UTF-8 (a byte-order mark is skipped; UTF-16 with its byte-order mark
+is decoded). -o is never a file the conversion reads (the same file under any
+name included) and is written whole or not at all (a temporary file renamed
+over it). Every such problem is one line 'Error: FILE[:LINE]: ...' and exit
+status 1.
+
 Options:
   --mesh FILE.msh        Peridigm's Exodus discretization is read from this
                          Gmsh mesh instead (PeriDeal reads no Exodus):
