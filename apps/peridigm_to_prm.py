@@ -1296,12 +1296,12 @@ class Converter:
         out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
 
     def critical_energy(self, c, s):
-        """Peridigm's Critical Energy (the DLR EnergyReleaseDamageModel): its
-        'Critical Energy' G (or, alone, 'Critical Energy Tension') as PeriDeal's
-        Critical energy release rate 2 G. Peridigm breaks a bond when
-        |t_ij e| + |t_ji e| > 16 G / (pi delta^4) (t the LPS scalar force state,
-        e the extension); PeriDeal when its bond energy (t_ij + t_ji) e / 2 >
-        4 G_c / (pi delta^4): the same bonds (in tension) for G_c = 2 G."""
+        """Peridigm's Critical Energy (DLR's EnergyReleaseDamageModel): its
+        'Critical Energy' G (or, alone, 'Critical Energy Tension') is PeriDeal's
+        Critical energy release rate. Peridigm's Energy Criterion breaks a bond
+        when (|t_ij| + |t_ji|) e > 8 G / (pi delta^4) (t the LPS scalar force
+        state, e the extension), PeriDeal when its bond energy (t_ij + t_ji) e / 2
+        > 4 G_c / (pi delta^4): the same bonds in tension for G_c = G."""
         g = self.number(c, "Critical Energy")
         if g is None:
             tension = self.child(c, "Critical Energy Tension")
@@ -1334,15 +1334,16 @@ class Converter:
         if factor is not None and float(factor) != 1:
             self.cannot(c.children["Degradation Factor"], "PeriDeal breaks a bond at once (a degradation factor of 1)")
         if g is not None:
-            s.set("Critical energy release rate", fmt(2 * float(g)),
-                  "2 x Peridigm's Critical Energy %s: Peridigm breaks a bond when |t_ij e| + |t_ji e|\n"
-                  "> 16 G / (pi delta^4), PeriDeal when (t_ij + t_ji) e / 2 > 4 G_c / (pi delta^4):\n"
-                  "the same bonds in tension for G_c = 2 G (doc/peridigm.md)." % g)
+            s.set("Critical energy release rate", g,
+                  "Peridigm's Critical Energy: it breaks a bond when (|t_ij| + |t_ji|) e\n"
+                  "> 8 G / (pi delta^4), PeriDeal when (t_ij + t_ji) e / 2 > 4 G_c / (pi delta^4):\n"
+                  "the same bonds in tension for G_c = G (doc/peridigm.md).")
             self.warn(c.children.get("Critical Energy") or c.children.get("Critical Energy Tension"),
-                      "written as Critical energy release rate = 2 x %s: with the same number Peridigm breaks a bond "
-                      "at twice the bond energy PeriDeal does (16 G against 8 G_c over pi delta^4 for "
-                      "(t_ij + t_ji) e); Peridigm defines it for Elastic (LPS) blocks only, PeriDeal uses each "
-                      "material's own bond energy" % g)
+                      "written as Critical energy release rate = %s: Peridigm's Energy Criterion ((|t_ij| + "
+                      "|t_ji|) e > 8 G / (pi delta^4)) breaks the bonds of an Elastic (LPS) block in tension "
+                      "where PeriDeal's does; Peridigm defines it for Elastic blocks only, PeriDeal uses each "
+                      "material's own bond energy; DLR's first version compared with 16 G / (pi delta^4): for "
+                      "a deck written for it, double the value" % g)
 
     def block_horizons(self):
         """[(PeriDeal block name, material, damage model, horizon text or None)]."""
