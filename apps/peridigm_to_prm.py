@@ -20,6 +20,14 @@ Features it converts only approximately are named as 'DECK:LINE: warning:
 concern output (an output variable PeriDeal does not write, a compute class
 it does not have) are reported but are not essential.
 
+Files: the deck and --mesh must be regular files (checked before they are
+opened: a FIFO, a device or a directory is refused by name), a deck at most
+16 MiB of UTF-8 (a byte-order mark is skipped; UTF-16 with its byte-order mark
+is decoded). -o is never a file the conversion reads (the same file under any
+name included) and is written whole or not at all (a temporary file renamed
+over it). Every such problem is one line 'Error: FILE[:LINE]: ...' and exit
+status 1.
+
 Options:
   --mesh FILE.msh        Peridigm's Exodus discretization is read from this
                          Gmsh mesh instead (PeriDeal reads no Exodus):
@@ -49,7 +57,9 @@ import argparse
 import math
 import os
 import re
+import stat
 import sys
+import tempfile
 import xml.parsers.expat
 
 
@@ -288,9 +298,115 @@ def parse_xml(text):
     return root
 
 
+# ---------------------------------------------------------------- the files
+#
+# Every file the converter opens goes through open_regular(): os.stat first,
+# so a FIFO, a device (/dev/zero), a directory or a socket is refused by name
+# before it is opened (a FIFO would block the open, /dev/zero never ends);
+# then opened without blocking and checked again on the open descriptor (the
+# path may have changed in between). read_text() adds the size limit and the
+# decoding; a problem is an InputError whose message names the file (and the
+# line where there is one).
+
+MAX_DECK_BYTES = 16 << 20  # a Peridigm deck is a few kB; beyond this it is not one
+
+UTF8_BOM = b"\xef\xbb\xbf"
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+UTF32_BOMS = (b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")
+
+
+class InputError(Exception):
+    """A file the converter cannot use; the message names it (and the line)."""
+
+
+def _file_kind(mode):
+    for test, name in ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def regular_file_problem(path):
+    """Why PATH cannot be read as a file ('no such file', 'a directory', ...),
+    or None if it is a regular file. Never opens it."""
+    try:
+        st = os.stat(path)
+    except OSError as e:
+        return e.strerror.lower() if e.strerror else str(e)
+    if not stat.S_ISREG(st.st_mode):
+        return "it is %s, not a regular file" % _file_kind(st.st_mode)
+    return None
+
+
+def open_regular(path, what):
+    """PATH opened for reading in binary mode, if it is a regular file.
+    WHAT names it in messages ('the deck', '--mesh')."""
+    problem = regular_file_problem(path)
+    if problem:
+        raise InputError("%s: cannot read %s: %s" % (path, what, problem))
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as e:
+        raise InputError("%s: cannot read %s: %s" % (path, what, e.strerror))
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise InputError("%s: cannot read %s: it is not a regular file" % (path, what))
+    return os.fdopen(fd, "rb")
+
+
+def decode_text(data, path, what):
+    """The text of DATA, a file's bytes: UTF-8 (a byte-order mark is skipped),
+    or UTF-16 with its byte-order mark (decoded). Anything else (UTF-32, a NUL
+    byte, bytes that are not UTF-8) is an InputError naming the line."""
+    if data.startswith(UTF32_BOMS):
+        raise InputError("%s: cannot read %s: it is UTF-32 text (byte-order mark); save it as UTF-8" % (path, what))
+    if data.startswith(UTF16_BOMS):
+        try:
+            return data.decode("utf-16")
+        except UnicodeDecodeError as e:
+            line = data[:e.start].decode("utf-16", "replace").count("\n") + 1
+            raise InputError("%s:%d: cannot read %s: it starts with a UTF-16 byte-order mark but is not "
+                             "valid UTF-16 (%s); save it as UTF-8" % (path, line, what, e.reason))
+    if data.startswith(UTF8_BOM):
+        data = data[len(UTF8_BOM):]
+    nul = data.find(b"\x00")
+    if nul >= 0:
+        line = data[:nul].count(b"\n") + 1
+        odd, even = data[1::2], data[0::2]
+        if any(a.count(0) >= 0.9 * len(a) and b.count(0) <= 0.05 * len(b) for a, b in ((odd, even), (even, odd))):
+            raise InputError("%s:%d: cannot read %s: NUL bytes, as in UTF-16 text without a byte-order mark; "
+                             "save it as UTF-8" % (path, line, what))
+        raise InputError("%s:%d: cannot read %s: a NUL byte: a binary file, not a text deck" % (path, line, what))
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data[:e.start].count(b"\n") + 1
+        column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
+        raise InputError("%s:%d: cannot read %s: byte 0x%02x at column %d is not UTF-8 text; save the file as "
+                         "UTF-8" % (path, line, what, data[e.start], column))
+
+
+def read_text(path, what, limit=MAX_DECK_BYTES):
+    """The text of the regular file PATH (open_regular, decode_text), at most
+    LIMIT bytes; an empty file is an InputError too."""
+    with open_regular(path, what) as f:
+        try:
+            data = f.read(limit + 1)
+        except OSError as e:
+            raise InputError("%s: cannot read %s: %s" % (path, what, e.strerror))
+    if len(data) > limit:
+        raise InputError("%s: cannot read %s: it is larger than %d MiB, which no Peridigm deck is"
+                         % (path, what, limit >> 20))
+    text = decode_text(data, path, what)
+    if not text.strip():
+        raise InputError("%s: cannot read %s: the file is empty" % (path, what))
+    return text
+
+
 def read_deck(path):
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    text = read_text(path, "the deck")
     if text.lstrip().startswith("<"):
         root = parse_xml(text)
     else:
@@ -298,9 +414,14 @@ def read_deck(path):
         # Peridigm's YAML decks hang everything under 'Peridigm:'.
         if len(root.children) == 1:
             (only,) = root.children.values()
+            if only.name == "Peridigm" and not only.is_list():
+                raise DeckError(only.line, "'Peridigm' has a value; the deck's sections (Discretization, "
+                                "Materials, ...) belong under it")
             if only.is_list() and only.name == "Peridigm":
                 only.parent = None
                 return only
+    if not root.children:
+        raise DeckError(max(root.line, 1), "no section: the deck holds only comments")
     root.parent = None
     return root
 
@@ -322,9 +443,11 @@ class Prm:
     def set(self, key, value, comment=None):
         """Set key (again: its value changes in place); new keys go before the
         first subsection, with their comment lines."""
-        for item in self.items:
+        for at, item in enumerate(self.items):
             if item[0] == "set" and item[1] == key:
                 item[2] = value
+                if comment:
+                    self.items[at:at] = [("comment", line) for line in comment.split("\n")]
                 return
         at = next((i for i, item in enumerate(self.items) if item[0] == "sub"), len(self.items))
         new = [("comment", line) for line in comment.split("\n")] if comment else []
@@ -534,9 +657,9 @@ def translate_expression(text, variables=("x", "y", "z", "t")):
 
 
 def is_number(s):
+    """True for a finite number: 'inf' and 'nan' are no value of a deck."""
     try:
-        float(s)
-        return True
+        return math.isfinite(float(s))
     except (TypeError, ValueError):
         return False
 
@@ -561,8 +684,8 @@ def cells_other_than_hexahedra(path):
     plural = {"tetrahedron": "tetrahedra", "prism": "prisms", "pyramid": "pyramids"}
     counts = {}
     try:
-        with open(path) as f:
-            lines = iter(f.read().splitlines())
+        with open_regular(path, "--mesh") as f:
+            lines = iter([line.decode("utf-8", "replace") for line in f])
         version = None
         for line in lines:
             if line.strip() == "$MeshFormat":
@@ -582,7 +705,7 @@ def cells_other_than_hexahedra(path):
                         if kind in names:
                             counts[names[kind]] = counts.get(names[kind], 0) + 1
                 break
-    except (OSError, UnicodeDecodeError, ValueError, IndexError, StopIteration):
+    except (InputError, OSError, ValueError, IndexError, StopIteration):
         return ""
     return " and ".join("%d %s" % (n, name if n == 1 else plural[name]) for name, n in sorted(counts.items()))
 
@@ -608,9 +731,12 @@ class Converter:
         self.labels = set()  # compute output labels (globals CSV columns)
         self.materials = {}
         self.damage_models = {}
+        self.hourglass = {}  # material -> (Peridigm's Hourglass Coefficient, its node, the .prm subsection)
+        # The files the conversion reads or names as input: never its output.
+        self.input_files = [("the deck", deck_path), ("the --mesh", args.mesh)]
         for spec in args.node_set or []:
             if "=" not in spec:
-                sys.exit("peridigm_to_prm.py: --node-set %s: expected NAME=SPEC" % spec)
+                raise InputError("--node-set %s: expected NAME=SPEC" % spec)
             name, what = spec.split("=", 1)
             self.node_set_specs[name.strip()] = what.strip()
 
@@ -694,7 +820,7 @@ class Converter:
             return None
         if c.is_list() or not is_number(c.value) or (integer and not re.fullmatch(r"\s*[-+]?\d+\s*", c.value)):
             self.cannot(c, "'%s' is not %s" % (c.value if not c.is_list() else "a list",
-                                               "an integer" if integer else "a number"), essential)
+                                               "an integer" if integer else "a finite number"), essential)
             return None
         return c.value.strip()
 
@@ -760,6 +886,8 @@ class Converter:
         self.materials_section(self.child(top, "Materials"))
         self.damage_section(self.child(top, "Damage Models"))
         self.blocks_section(self.child(top, "Blocks"))
+        self.scale_hourglass()
+        self.check_bonded_blocks(self.child(top, "Blocks"))
         self.conditions_section(self.child(top, "Boundary Conditions"))
         self.contact_section(self.child(top, "Contact"))
         self.computes_section(self.child(top, "Compute Class Parameters"))
@@ -868,15 +996,19 @@ class Converter:
             if mesh is not None:
                 t = out.sub("Text file")
                 here = os.path.join(os.path.dirname(os.path.abspath(self.deck)), mesh)
-                if not os.path.isabs(mesh) and os.path.isfile(here):
+                if not os.path.isabs(mesh) and os.path.lexists(here):
                     t.comment("'%s' beside the deck; its block N is material id N\n(Blocks/*/Material ids)." % mesh)
                     mesh = os.path.normpath(here)
                 else:
                     t.comment("Its block N is material id N (Blocks/*/Material ids); a relative\npath is taken "
                               "from the directory pd_app starts in.")
-                    if not os.path.isfile(mesh):
-                        self.warn(d.children.get("Input Mesh File"), "the point file '%s' is not found (neither "
-                                  "beside the deck nor from here)" % mesh)
+                problem = regular_file_problem(mesh)
+                if problem and os.path.lexists(mesh):
+                    self.cannot(d.children.get("Input Mesh File"), "the point file '%s': %s" % (mesh, problem))
+                elif problem:
+                    self.warn(d.children.get("Input Mesh File"), "the point file '%s' is not found (neither "
+                              "beside the deck nor from here)" % mesh)
+                self.input_files.append(("the deck's point file", mesh))
                 t.set("File", mesh)
         elif dtype is not None:
             self.cannot(d.children.get("Type"), "the discretization type '%s' has no PeriDeal equivalent" % dtype)
@@ -918,6 +1050,12 @@ class Converter:
         z0 = self.number(g, "Z Origin", required=True)
         nr = self.number(g, "Number Points Radius", required=True, integer=True)
         self.child(g, "Type")  # PdQuickGrid, repeated in the users' guide
+        if nr is not None and int(nr) < 1:
+            self.cannot(g.children["Number Points Radius"], "must be at least 1, got %s" % nr)
+            nr = None
+        if ri is not None and ro is not None and float(ro) <= float(ri):
+            self.cannot(g.children["Outer Radius"], "must be larger than the Inner Radius %s, got %s" % (ri, ro))
+            ro = None
         if None in (ri, ro, length, cx, cy, z0, nr):
             self.leftovers(g)
             return
@@ -1070,10 +1208,15 @@ class Converter:
                 hg = self.number(c, "Hourglass Coefficient", required=True)
                 if hg is not None:
                     s.set("Stabilization", "Hourglass")
-                    s.set("Hourglass coefficient", hg)
+                    s.set("Hourglass coefficient", hg)  # scaled by scale_hourglass() once the horizons are known
+                    self.hourglass[c.name] = (hg, c.children["Hourglass Coefficient"], s)
                 if model == "Elastic Correspondence":
                     s.set("Strain measure", "Green-Lagrange", "Peridigm's Elastic Correspondence: Green-Lagrange "
                           "strain.")
+            if self.MODELS[model] == "Elastic plastic correspondence":
+                s.set("Yield stress measure", "Cauchy",
+                      "Peridigm yields on the von Mises stress of the Cauchy stress; PeriDeal's\n"
+                      "default (Kirchhoff) yields on J times it (doc/models.md).")
             if model == "Linear LPS Partial Volume":
                 self.warn(c.children["Material Model"], "PeriDeal's LPS is the ordinary (not linearized) "
                           "model and its partial volumes come from the cells' geometry "
@@ -1091,6 +1234,7 @@ class Converter:
         "Time Dependent Critical Stretch": "Time dependent critical stretch",
         "User Defined Time Dependent Critical Stretch": "Time dependent critical stretch",
         "Von Mises Stress": "Von Mises stress",
+        "Critical Energy": "Critical energy",
     }
 
     def damage_section(self, m):
@@ -1130,6 +1274,8 @@ class Converter:
                               "Peridigm's function of t: %s" % expr_node.value.strip())
                     except ExprError as e:
                         self.cannot(expr_node, "the function '%s': %s" % (expr_node.value.strip(), e))
+            elif model == "Critical Energy":
+                self.critical_energy(c, s)
             elif model == "Von Mises Stress":
                 for key, pkey in (("Critical Von Mises Stress", "Critical von Mises stress"),
                                   ("Critical Damage", "Critical damage"), ("Threshold Damage", "Threshold damage")):
@@ -1148,6 +1294,131 @@ class Converter:
             self.leftovers(c)
             names.append(c.name)
         out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+
+    def critical_energy(self, c, s):
+        """Peridigm's Critical Energy (DLR's EnergyReleaseDamageModel): its
+        'Critical Energy' G (or, alone, 'Critical Energy Tension') is PeriDeal's
+        Critical energy release rate. Peridigm's Energy Criterion breaks a bond
+        when (|t_ij| + |t_ji|) e > 8 G / (pi delta^4) (t the LPS scalar force
+        state, e the extension), PeriDeal when its bond energy (t_ij + t_ji) e / 2
+        > 4 G_c / (pi delta^4): the same bonds in tension for G_c = G."""
+        g = self.number(c, "Critical Energy")
+        if g is None:
+            tension = self.child(c, "Critical Energy Tension")
+            others = [k for k in ("Critical Energy Compression", "Critical Energy Shear", "Power Law", "Separated")
+                      if k in c.children]
+            if tension is not None and not others:
+                g = self.number(c, "Critical Energy Tension")
+            elif tension is None and not others:
+                self.cannot(c, "'Critical Energy' is missing", path=c.path() + "/Critical Energy")
+        for key in ("Critical Energy Compression", "Critical Energy Shear", "Power Law", "Separated"):
+            k = self.child(c, key)
+            if k is not None:
+                self.cannot(k, "PeriDeal's Critical energy has one G_c for a bond's whole energy (and compression "
+                            "breaks nothing): no separate tension, compression and shear energies or criteria")
+        for k in [k for k in c.children.values() if k.name.startswith("Interblock")]:
+            k.used = True
+            self.cannot(k, "PeriDeal's Critical energy has no energy of its own for bonds between blocks (a block with "
+                        "it bonds only to blocks with the same damage model and horizon)")
+        only = self.boolean(c, "Only Tension")
+        if only is False:
+            self.cannot(c.children["Only Tension"], "PeriDeal's Critical energy breaks stretched bonds only")
+        for key in ("Plane Stress", "Plane Strain"):
+            if self.boolean(c, key):
+                self.cannot(c.children[key], "PeriDeal's w_c = 4 G_c / (pi delta^4) is the three-dimensional one")
+        detached = self.child(c, "Detached Nodes Check")
+        if detached is not None:
+            self.cannot(detached, "PeriDeal has no such check; its 'Critical damage to neglect material point' "
+                        "frees a point that has lost its bonds", essential=False)
+        factor = self.number(c, "Degradation Factor")
+        if factor is not None and float(factor) != 1:
+            self.cannot(c.children["Degradation Factor"], "PeriDeal breaks a bond at once (a degradation factor of 1)")
+        if g is not None:
+            s.set("Critical energy release rate", g,
+                  "Peridigm's Critical Energy: it breaks a bond when (|t_ij| + |t_ji|) e\n"
+                  "> 8 G / (pi delta^4), PeriDeal when (t_ij + t_ji) e / 2 > 4 G_c / (pi delta^4):\n"
+                  "the same bonds in tension for G_c = G (doc/peridigm.md).")
+            self.warn(c.children.get("Critical Energy") or c.children.get("Critical Energy Tension"),
+                      "written as Critical energy release rate = %s: Peridigm's Energy Criterion ((|t_ij| + "
+                      "|t_ji|) e > 8 G / (pi delta^4)) breaks the bonds of an Elastic (LPS) block in tension "
+                      "where PeriDeal's does; Peridigm defines it for Elastic blocks only, PeriDeal uses each "
+                      "material's own bond energy; DLR's first version compared with 16 G / (pi delta^4): for "
+                      "a deck written for it, double the value" % g)
+
+    def block_horizons(self):
+        """[(PeriDeal block name, material, damage model, horizon text or None)]."""
+        disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
+        out = []
+        for c, dnames, material, damage, h in getattr(self, "peridigm_blocks", []):
+            name = dnames[0] if len(dnames) == 1 else c.name
+            out.append((name, material, damage, h[0] if h else disc_h))
+        return out
+
+    def scale_hourglass(self):
+        """Peridigm's hourglass force on a bond is |Y| times PeriDeal's for the
+        same coefficient C (doc/models.md: Peridigm multiplies by Y where PeriDeal
+        has Y/|Y|). No constant makes them equal bond by bond; C' = C 2 delta / 3
+        makes the two forces' total stiffness against a zero-energy mode (|z.M|
+        the same on every bond) equal for a full spherical family: C' sum_j V_j /
+        |xi| = C sum_j V_j, and the mean of 1/|xi| over a sphere is 3 / (2 delta)."""
+        blocks = self.block_horizons()
+        for material, (hg, node, s) in self.hourglass.items():
+            horizons = sorted(set(float(h) for _, m, _, h in blocks if m == material and h is not None))
+            if not horizons:
+                self.warn(node, "Peridigm's hourglass force is |Y| times PeriDeal's for the same coefficient, and "
+                          "no block with a horizon uses this material: copied as it is, not scaled by 2 delta / 3")
+                continue
+            delta = horizons[0]
+            scaled = float(hg) * 2 * delta / 3
+            s.set("Hourglass coefficient", "%.12g" % scaled,
+                  "Peridigm's Hourglass Coefficient %s x 2 delta / 3, delta = %s.\n"
+                  "Peridigm's hourglass force on a bond is |Y| times PeriDeal's for the same\n"
+                  "coefficient, so none is exact; this one gives the same total stiffness\n"
+                  "against a zero-energy mode for a full spherical family (the mean of 1/|xi|\n"
+                  "over it is 3 / (2 delta)).\n"
+                  "In the deck's unit of length." % (hg, "%g" % delta))
+            self.warn(node, "written as Hourglass coefficient = %s x 2 x %g / 3 = %.6g: Peridigm's hourglass force "
+                      "on a bond is |Y| times PeriDeal's for the same coefficient (doc/models.md); the two agree "
+                      "in total stiffness for a full spherical family, not bond by bond (short bonds are stiffer, "
+                      "long ones softer in PeriDeal)" % (hg, delta, scaled))
+            if len(horizons) > 1:
+                self.warn(node, "the blocks of this material have different horizons (%s): scaled with the "
+                          "smallest" % ", ".join("%g" % h for h in horizons))
+
+    OWN_LAW_DAMAGE = ("Critical energy", "Von Mises stress")  # not a stretch criterion (pd_app's force_model.cc)
+    HORIZON_ONE = ("LPS", "Elastic plastic", "Viscoelastic", "Elastic correspondence",
+                   "Elastic plastic correspondence")
+
+    def check_bonded_blocks(self, node):
+        """What pd_app refuses of blocks within a horizon of each other, which
+        the converter cannot see (it does not know which blocks touch): named
+        as warnings with what to do."""
+        blocks = self.block_horizons()
+        if node is None or len(blocks) < 2:
+            return
+        models = {}
+        for name, material, _, _ in blocks:
+            models.setdefault(self.materials.get(material), []).append(name)
+        models.pop(None, None)
+        if len(models) > 1:
+            self.warn(node, "the blocks have different material models (%s): pd_app refuses blocks of different "
+                      "models within a horizon of each other ('bonds between models are not defined'). If they "
+                      "touch, give them one model with different constants; different models only for blocks "
+                      "more than a horizon apart (e.g. meeting by contact)"
+                      % "; ".join("%s: %s" % (m, ", ".join(n)) for m, n in sorted(models.items())))
+        damage = {name: self.damage_models.get(d) for name, _, d, _ in blocks}
+        if any(d in self.OWN_LAW_DAMAGE for d in damage.values()) and len(set(damage.values())) > 1:
+            self.warn(node, "the blocks have different damage models (%s), and %s decides by a law of its own: "
+                      "pd_app refuses two such blocks within a horizon of each other (the two halves of a bond "
+                      "would follow different laws). If they touch, give them the same damage model"
+                      % ("; ".join("%s: %s" % (n, d or "none") for n, d in damage.items()),
+                         " or ".join(sorted(set(d for d in damage.values() if d in self.OWN_LAW_DAMAGE)))))
+        horizons = set(h for _, _, _, h in blocks if h is not None)
+        uneven = sorted(set(self.materials.get(m) for _, m, _, _ in blocks) & set(self.HORIZON_ONE))
+        if len(horizons) > 1 and uneven:
+            self.warn(node, "the blocks have different horizons (%s): pd_app's %s refuse blocks of different horizons "
+                      "bonded to each other (and Critical energy blocks sharing bonds need one horizon): give the "
+                      "blocks that touch one horizon" % (", ".join(sorted(horizons)), ", ".join(uneven)))
 
     # Blocks -----------------------------------------------------------------
 
@@ -1268,18 +1539,18 @@ class Converter:
             corners = rest.split(":")
             if len(corners) != 2 or any(len(x.split(",")) != 3 or not all(is_number(v) for v in x.split(","))
                                         for x in corners):
-                sys.exit("peridigm_to_prm.py: --node-set %s=%s: expected box:X0,Y0,Z0:X1,Y1,Z1" % (name, spec))
+                raise InputError("--node-set %s=%s: expected box:X0,Y0,Z0:X1,Y1,Z1" % (name, spec))
             self.add_region(name, "Box", [("Lower corner", corners[0]), ("Upper corner", corners[1])])
         elif kind == "expression":
             self.add_region(name, "Expression", [("Expression", rest)])
         elif kind == "group":
             parts = rest.split(":")
             if not parts[0].isdigit() or (len(parts) > 1 and parts[1] not in ("2", "3")):
-                sys.exit("peridigm_to_prm.py: --node-set %s=%s: expected group:N or group:N:DIM" % (name, spec))
+                raise InputError("--node-set %s=%s: expected group:N or group:N:DIM" % (name, spec))
             self.add_region(name, "Physical group", [("Physical group", parts[0]),
                                                      ("Physical group dimension", parts[1] if len(parts) > 1 else "3")])
         else:
-            sys.exit("peridigm_to_prm.py: --node-set %s=%s: SPEC is box:..., expression:... or group:..."
+            raise InputError("--node-set %s=%s: SPEC is box:..., expression:... or group:..."
                      % (name, spec))
         return name
 
@@ -1324,6 +1595,9 @@ class Converter:
             if not c.is_list():
                 c.used = True
                 self.node_set_defs[c.name] = c
+                beside = os.path.join(os.path.dirname(os.path.abspath(self.deck)), c.value.strip())
+                if c.value.strip() and os.path.lexists(beside):
+                    self.input_files.append(("the node set file", beside))
         names = []
         uses_rnd = False
         for c in b.children.values():
@@ -1657,6 +1931,9 @@ class Converter:
         else:  # Implicit: Newmark
             out.set("Type", "Newmark", "Peridigm's Implicit: Newmark-beta.")
             dt = self.number(k, "Fixed dt", required=True)
+            if dt is not None and float(dt) <= 0:
+                self.cannot(k.children["Fixed dt"], "must be positive, got %s" % dt)
+                dt = None
             if t0 is not None and not stage:
                 out.set("Initial time", t0)
             if t1 is not None:
@@ -1698,6 +1975,28 @@ class Converter:
         "Global_Angular_Momentum": ("Angular momentum", "Global_Angular_Momentum"),
     }
 
+    LPS_ONLY_FIELDS = ("Dilatation", "Weighted_Volume")
+
+    def field_of_these_blocks(self, v):
+        """False (and named) for an output variable PeriDeal has for LPS blocks
+        only when no block is LPS: pd_app refuses a field no block has."""
+        if v.name not in self.LPS_ONLY_FIELDS or not getattr(self, "peridigm_blocks", None):
+            return True
+        models = {}
+        for name, material, _, _ in self.block_horizons():
+            models.setdefault(self.materials.get(material), []).append(name)
+        models.pop(None, None)
+        if not models or "LPS" in models:
+            others = sorted(n for m, names in models.items() if m != "LPS" for n in names)
+            if others:
+                self.warn(v, "PeriDeal's '%s' is a field of LPS blocks only; blocks %s have none"
+                          % (self.FIELDS[v.name], ", ".join(others)))
+            return True
+        self.cannot(v, "PeriDeal's '%s' is a field of LPS (Peridigm's Elastic) only, and no block is LPS (%s): "
+                    "dropped, pd_app would refuse it" % (self.FIELDS[v.name], "; ".join(
+                        "%s: %s" % (m, ", ".join(n)) for m, n in sorted(models.items()))), essential=False)
+        return False
+
     def output_sections(self, sections):
         if not sections:
             return
@@ -1733,7 +2032,7 @@ class Converter:
                     if not on:
                         continue
                     if v.name in self.FIELDS:
-                        if self.FIELDS[v.name] not in fields:
+                        if self.FIELDS[v.name] not in fields and self.field_of_these_blocks(v):
                             fields.append(self.FIELDS[v.name])
                     elif v.name in self.GLOBALS:
                         wanted_globals.append(v)
@@ -1796,8 +2095,86 @@ SECTION_ORDER = ("Discretization", "Materials", "Damage models", "Blocks", "Boun
                  "Contact models", "Contact", "Computes", "Solver", "Output")
 
 
+def same_file(a, b):
+    """True if paths A and B are one file (through a symbolic or hard link too)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_output_path(output, inputs):
+    """Raises InputError if OUTPUT is one of INPUTS ((what, path) pairs: the
+    files the conversion reads), the same file by another name included."""
+    for what, path in inputs:
+        if path and same_file(output, path):
+            raise InputError("-o %s is %s %s (the same file): the converter never overwrites a file it reads; "
+                             "nothing written, give another output name" % (output, what, path))
+
+
+def check_output_folder(path):
+    """Raises InputError if PATH cannot become the parameter file: its folder
+    is missing, or it is there but not a regular file (a directory, a device)."""
+    target = os.path.realpath(path)
+    if not os.path.isdir(os.path.dirname(target)):
+        raise InputError("%s: cannot write the parameter file: the folder %s does not exist"
+                         % (path, os.path.dirname(path) or "."))
+    if os.path.lexists(target):
+        problem = regular_file_problem(target)
+        if problem:
+            raise InputError("%s: cannot write the parameter file: %s" % (path, problem))
+
+
+def write_whole(path, text):
+    """TEXT written to PATH whole or not at all: into a temporary file in the
+    same folder, renamed over PATH (over the file a symbolic link PATH points
+    to) only once complete, with the old file's permissions. Raises InputError."""
+    check_output_folder(path)
+    target = os.path.realpath(path)
+    folder = os.path.dirname(target)
+    if os.path.lexists(target):
+        mode = stat.S_IMODE(os.stat(target).st_mode)
+    else:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    temporary = None
+    try:
+        fd, temporary = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(target) + ".", suffix=".tmp")
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.chmod(temporary, mode)
+        os.replace(temporary, target)
+        temporary = None
+    except OSError as e:
+        raise InputError("%s: cannot write the parameter file: %s" % (path, e.strerror or e))
+    finally:
+        if temporary is not None:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with pd_app's discipline: 'Error: ...' and exit status 1."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        print("Error: %s" % message, file=sys.stderr)
+        sys.exit(1)
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(
+    try:
+        return convert(argv)
+    except InputError as e:
+        print("Error: %s" % e, file=sys.stderr)
+        return 1
+
+
+def convert(argv):
+    ap = ArgumentParser(
         prog="peridigm_to_prm.py",
         description="Convert a Peridigm input deck (YAML or XML) into a PeriDeal parameter file.",
         epilog="Unconvertible keys are listed on standard error as DECK:LINE: cannot convert "
@@ -1814,18 +2191,33 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1, help="Random seed of conditions that use rnd() (default 1)")
     args = ap.parse_args(argv)
 
+    # What the conversion reads is never its output; checked before anything is read.
+    inputs = [("the deck", args.deck), ("the --mesh", args.mesh)]
+    if args.output:
+        check_output_path(args.output, inputs)
+        check_output_folder(args.output)
+    if args.mesh:
+        problem = regular_file_problem(args.mesh)
+        if problem:
+            raise InputError("--mesh %s: cannot read the mesh: %s" % (args.mesh, problem))
     try:
         root = read_deck(args.deck)
-    except OSError as e:
-        print("Error: cannot read %s: %s" % (args.deck, e.strerror), file=sys.stderr)
-        return 1
     except DeckError as e:
         print("%s:%d: syntax error: %s" % (args.deck, e.line, e.message), file=sys.stderr)
         print("Error: %s could not be read; nothing written" % args.deck, file=sys.stderr)
         return 1
 
     conv = Converter(args.deck, root, args)
-    conv.run()
+    try:
+        conv.run()
+    except (InputError, DeckError):
+        raise
+    except Exception as e:  # a bug of the converter: said as one line, nothing written
+        print("Error: the converter failed on %s (a bug; please report it with the deck): %s: %s; nothing written"
+              % (args.deck, type(e).__name__, e), file=sys.stderr)
+        return 1
+    if args.output:
+        check_output_path(args.output, conv.input_files)
     for _, _, text, _ in sorted(conv.messages):
         print(text, file=sys.stderr)
 
@@ -1858,10 +2250,13 @@ def main(argv=None):
               "(--partial writes the rest)" % (conv.essential_failures, args.deck), file=sys.stderr)
         return 1
     if args.output:
-        with open(args.output, "w", encoding="utf-8") as f:
-            f.write(text)
+        write_whole(args.output, text)
     else:
-        sys.stdout.write(text)
+        try:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        except OSError as e:
+            raise InputError("cannot write the parameter file to standard output: %s" % (e.strerror or e))
     if conv.essential_failures:
         print("Error: %d essential key(s) of %s could not be converted; the rest was written (--partial)"
               % (conv.essential_failures, args.deck), file=sys.stderr)
