@@ -13,7 +13,7 @@
 // family's own sums (also where a surface cuts it). In stress terms, q =
 // sqrt(m_i/5) ||t^d|| is the von Mises stress of a homogeneous deformation.
 // Linear isotropic hardening Y = Y0 + H eps_p (H = 0: perfectly plastic), with
-// the equivalent plastic strain eps_p = sqrt(m/5) ||e^dp|| for a homogeneous
+// the equivalent plastic strain eps_p = sqrt(5/m) ||e^dp|| for a homogeneous
 // plastic flow (the continuum's sqrt(2/3 eps^p:eps^p)). Radial return from the
 // trial state t_tr = alpha (e^d - e^dp_N) (backward Euler, as J2 plasticity):
 //   q_tr = sqrt(m_i/5) ||t_tr||;  if q_tr > Y_N = Y0 + H eps_p,N:

@@ -254,7 +254,8 @@ namespace perideal
                       "conservation check to round-off reads them back exactly).");
     prm.declare_entry("Write globals", "true", Patterns::Bool(),
                       "Write <base name>.globals.csv with step, time, kinetic_energy, "
-                      "strain_energy, broken_bonds, max_damage and more, a row per "
+                      "strain_energy, broken_bonds (bonds broken, each pair of points once; the set-up "
+                      "report counts directed bonds, two per pair), max_damage and more, a row per "
                       "output step.");
     prm.declare_entry("Field precision", "float", Patterns::Selection("float|double"),
                       "float: the field files' arrays are Float32 (deal.II's writer; about 7 significant "

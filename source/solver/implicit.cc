@@ -47,8 +47,9 @@ namespace perideal
     prm.declare_entry("Maximum linear iterations", "1000", Patterns::Integer(1),
                       "More stops the run with an error.");
     prm.declare_entry("Tangent", "Analytic", Patterns::Selection("Analytic|Finite differences"),
-                      "Analytic: each material's own tangent (PMB, LPS); a material without one "
-                      "falls back to finite differences. Finite differences: central differences "
+                      "Analytic: each material's own tangent (PMB, LPS, Elastic plastic, Viscoelastic); "
+                      "with a material that has none (the correspondence models) every solve uses finite "
+                      "differences, as the set-up line says. Finite differences: central differences "
                       "of the force for every material (6 force evaluations per colour; see the "
                       "set-up report for the number of colours).");
     prm.declare_entry("Jacobian", "Assembled", Patterns::Selection("Assembled|Matrix free"),

@@ -23,6 +23,28 @@ namespace perideal
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// Whether the material of every deformable block has an analytic
+    /// tangent: Material::add_tangent() returns false if it has none, and on
+    /// no points it adds nothing to @p rows and answers just that.
+    bool
+    analytic_tangents(const SimulatorAccess &access, TangentRows &rows)
+    {
+      const ModelState state{access.discretization.cloud,
+                             access.discretization.bonds,
+                             nullptr,
+                             access.state.displacement.begin(),
+                             nullptr,
+                             nullptr,
+                             access.model.field_store()};
+      for (const auto &b : access.model.blocks)
+        if (!b.rigid && !b.material->add_tangent(state, {}, rows))
+          return false;
+      return true;
+    }
+  } // namespace
+
   ImplicitSolver::ImplicitSolver(const SimulatorAccess &access, const ImplicitParameters &parameters)
     : access(access)
     , implicit(parameters)
@@ -132,6 +154,14 @@ namespace perideal
         }
     }
     use_finite_differences = implicit.tangent == "Finite differences";
+    // A material without an analytic tangent (the correspondence models)
+    // makes every solve use finite differences: decided here, so that the
+    // set-up line names the tangent the solves use.
+    if (!use_finite_differences && implicit.jacobian == "Assembled" && !analytic_tangents(access, tangent->begin(constrained_dofs)))
+      {
+        use_finite_differences = true;
+        access.record.warnings.push_back("a material has no analytic tangent: the implicit solver uses finite differences");
+      }
     fd_step                = std::numeric_limits<double>::max();
     for (unsigned int i = 0; i < n_owned; ++i)
       fd_step = std::min(fd_step, 1e-6 * std::cbrt(cloud.volume[i]));
@@ -196,7 +226,7 @@ namespace perideal
         if (!use_finite_differences)
           {
             use_finite_differences = true;
-            access.record.warnings.push_back("a material has no analytic tangent: the quasistatic solver uses finite differences");
+            access.record.warnings.push_back("a material has no analytic tangent: the implicit solver uses finite differences");
             tangent->begin(constrained_dofs);
           }
         double horizon = 0;

@@ -346,12 +346,12 @@ namespace perideal
       return 2;
     }
 
-    /// Adds the analytic tangent of the points in @p points to @p K: the
-    /// stiffness -d(V_i f_i)/du in 3x3 blocks (TangentRows), for the state
-    /// as compute_force() sees it (stage fields computed and ghosted). A
-    /// material may add rows of other points (its neighbors, owned or ghost),
-    /// but only with columns of local points. Returns false if the material
-    /// has no analytic tangent; the solver then uses finite differences.
+    /// Adds the analytic tangent of the points in @p points to @p K (-d(V_i
+    /// f_i)/du in 3x3 blocks, TangentRows) for the state as compute_force()
+    /// sees it (stage fields ghosted); rows of other points (neighbors, owned
+    /// or ghost) only with columns of local points. Returns false if the
+    /// material has no analytic tangent, also on no points (the solvers ask
+    /// so at set-up, to name the tangent); they then use finite differences.
     virtual bool
     add_tangent(const ModelState &, const std::vector<unsigned int> &, TangentRows &) const
     {
