@@ -51,10 +51,10 @@ namespace
     if (all_arrived)
       {
         if (root)
-          std::cerr << "Error: " << message << std::endl;
+          perideal::write_to_stderr("Error: " + message + "\n");
         return 1;
       }
-    std::cerr << "Error: " << message << std::endl;
+    perideal::write_to_stderr("Error: " + message + "\n");
     MPI_Abort(comm, 1);
     return 1;
   }
@@ -105,14 +105,14 @@ main(int argc, char *argv[])
           if (restart.empty())
             {
               if (root)
-                std::cerr << "Error: --restart needs the checkpoint's directory\n" << usage;
+                perideal::write_to_stderr("Error: --restart needs the checkpoint's directory\n" + std::string(usage));
               return 2;
             }
         }
       else if (!a.empty() && a[0] == '-')
         {
           if (root)
-            std::cerr << "Error: unknown option '" << a << "'\n" << usage;
+            perideal::write_to_stderr("Error: unknown option '" + a + "'\n" + usage);
           return 2;
         }
       else if (file.empty())
@@ -120,20 +120,20 @@ main(int argc, char *argv[])
       else
         {
           if (root)
-            std::cerr << "Error: more than one parameter file given ('" << file << "', '" << a << "')\n";
+            perideal::write_to_stderr("Error: more than one parameter file given ('" + file + "', '" + a + "')\n");
           return 2;
         }
     }
   if (dry_run && !restart.empty())
     {
       if (root)
-        std::cerr << "Error: --dry-run and --restart exclude each other\n";
+        perideal::write_to_stderr("Error: --dry-run and --restart exclude each other\n");
       return 2;
     }
   if (file.empty())
     {
       if (root)
-        std::cerr << "Error: no parameter file given\n" << usage;
+        perideal::write_to_stderr("Error: no parameter file given\n" + std::string(usage));
       return 2;
     }
 

@@ -2,8 +2,10 @@
 
 #include <sys/stat.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <iostream>
 #include <unistd.h>
 
 namespace perideal
@@ -79,6 +81,20 @@ namespace perideal
           return "SIGINT";
         default:
           return "signal " + std::to_string(signal);
+      }
+  }
+  void
+  write_to_stderr(const std::string &text)
+  {
+    std::cerr.flush(); // what went before comes first
+    for (std::size_t at = 0; at < text.size();)
+      {
+        const ssize_t written = ::write(2, text.data() + at, text.size() - at);
+        if (written < 0 && errno == EINTR)
+          continue;
+        if (written <= 0)
+          return;
+        at += static_cast<std::size_t>(written);
       }
   }
 } // namespace perideal

@@ -23,7 +23,10 @@ namespace perideal
 
   namespace
   {
-    constexpr unsigned int format_version = 1;
+    // 2: checkpoint.txt ends with the CRC-32 of the text before it (format 1,
+    // without it, is not read).
+    constexpr unsigned int format_version = 2;
+    const std::string      marker         = "PeriDeal checkpoint ";
 
     std::string
     rank_file(const std::string &directory, const unsigned int rank)
@@ -34,7 +37,7 @@ namespace perideal
     }
 
     std::uint32_t
-    crc(const std::string &bytes)
+    crc_of(const std::string &bytes)
     {
       // zlib's crc32 takes at most 4 GiB at a time.
       uLong             value = crc32(0L, Z_NULL, 0);
@@ -163,17 +166,31 @@ namespace perideal
       return text;
     }
 
-    /// checkpoint.txt's text into @p header; false if it is not a whole
-    /// header of this format.
-    bool
-    parse_header(const std::string &header_text, CheckpointHeader &header)
+    /// checkpoint.txt's text into @p header; what is wrong with it, or empty.
+    std::string
+    parse_header(const std::string &text, CheckpointHeader &header)
     {
-      std::istringstream in(header_text);
+      if (text.rfind(marker, 0) != 0)
+        return "checkpoint.txt does not begin with '" + marker + "': not a PeriDeal checkpoint";
+      header.format = static_cast<unsigned int>(std::strtoul(text.c_str() + marker.size(), nullptr, 10));
+      if (header.format != format_version)
+        return "checkpoint.txt is of format " + std::to_string(header.format) + ", this PeriDeal reads format " +
+               std::to_string(format_version) + " only";
+      // The last line: the CRC-32 of everything before it.
+      const std::string damaged = "checkpoint.txt is damaged (truncated or changed: ";
+      const std::size_t last    = text.size() < 2 ? std::string::npos : text.rfind('\n', text.size() - 2);
+      if (text.empty() || text.back() != '\n' || last == std::string::npos || text.compare(last + 1, 6, "crc32 ") != 0)
+        return damaged + "it does not end with its CRC-32)";
+      char             *end   = nullptr;
+      const std::string value = text.substr(last + 7, text.size() - last - 8);
+      const unsigned long stored = std::strtoul(value.c_str(), &end, 10);
+      if (value.empty() || *end != '\0' || stored != crc_of(text.substr(0, last + 1)))
+        return damaged + "its CRC-32 check fails)";
+
+      std::istringstream in(text.substr(0, last + 1));
       std::string        word, line;
-      bool               ok = static_cast<bool>(std::getline(in, line)) && line.rfind("PeriDeal checkpoint ", 0) == 0;
-      if (ok)
-        header.format = static_cast<unsigned int>(std::strtoul(line.c_str() + 20, nullptr, 10));
-      ok = ok && header.format == format_version;
+      std::getline(in, line);
+      bool        ok = true;
       std::string time_text;
       ok = ok && (in >> word >> header.step) && word == "step";
       ok = ok && (in >> word >> time_text) && word == "time";
@@ -196,16 +213,77 @@ namespace perideal
           header.crc32s.push_back(c);
         }
       ok = ok && (in >> word) && word == "parameters";
-      if (ok)
-        {
-          std::getline(in, line);
-          std::ostringstream rest;
-          rest << in.rdbuf();
-          header.parameters = rest.str();
-        }
-      return ok;
+      if (!ok)
+        return "checkpoint.txt is damaged (its CRC-32 holds, but its lines are not those of a checkpoint)";
+      std::getline(in, line);
+      std::ostringstream rest;
+      rest << in.rdbuf();
+      header.parameters = rest.str();
+      return "";
     }
 
+    namespace fs = std::filesystem;
+
+    /// Why @p dir must not be replaced by a checkpoint, or empty: it is
+    /// missing, empty, or a checkpoint PeriDeal wrote (checkpoint.txt
+    /// beginning with the marker, and rank-NNNN.bin files, nothing else).
+    std::string
+    not_a_checkpoint(const fs::path &dir)
+    {
+      std::error_code ec;
+      const auto      status = fs::symlink_status(dir, ec);
+      if (!fs::exists(status))
+        return "";
+      if (!fs::is_directory(status))
+        return "is not a directory";
+      bool        has_marker = false;
+      std::string other;
+      for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+        {
+          const std::string name = it->path().filename().string();
+          const bool regular = it->is_regular_file(ec) && !it->is_symlink(ec);
+          const bool rank_file = name.size() >= 13 && name.rfind("rank-", 0) == 0 &&
+                                 name.compare(name.size() - 4, 4, ".bin") == 0 &&
+                                 name.find_first_not_of("0123456789", 5) == name.size() - 4;
+          if (regular && name == "checkpoint.txt")
+            {
+              std::ifstream in(it->path(), std::ios::binary);
+              std::string   start(marker.size(), '\0');
+              in.read(start.data(), std::streamsize(start.size()));
+              has_marker = in && start == marker;
+            }
+          else if (!(regular && rank_file) && other.empty())
+            other = name;
+        }
+      if (ec)
+        return "cannot be read (" + ec.message() + ")";
+      if (!other.empty())
+        return "holds '" + other + "', which no PeriDeal checkpoint holds";
+      if (!has_marker && !fs::is_empty(dir, ec))
+        return "holds files but no checkpoint.txt beginning with '" + marker + "'";
+      return "";
+    }
+
+    /// The absolute form of @p path with '.', '..' and the symbolic links of
+    /// its existing part resolved.
+    fs::path
+    resolved(const std::string &path)
+    {
+      std::error_code ec;
+      const fs::path  p = fs::weakly_canonical(fs::absolute(path), ec);
+      return ec ? fs::absolute(path).lexically_normal() : p;
+    }
+
+    /// True if @p inner is @p outer or lies inside it.
+    bool
+    is_within(const fs::path &inner, const fs::path &outer)
+    {
+      auto i = inner.begin(), o = outer.begin();
+      for (; o != outer.end() && !o->empty(); ++o, ++i)
+        if (i == inner.end() || *i != *o)
+          return false;
+      return true;
+    }
     std::string
     read_file(const std::string &name, bool &ok)
     {
@@ -300,16 +378,27 @@ namespace perideal
     : directory(directory_)
     , comm(comm)
   {
-    namespace fs            = std::filesystem;
     const std::string partial = directory + ".partial";
     std::string       problem;
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
+        // Set-up refused what is not a checkpoint (check_checkpoint_directory);
+        // checked again here, where it is removed.
         std::error_code ec;
-        fs::remove_all(partial, ec);
-        fs::create_directories(partial, ec);
-        if (ec || !fs::is_directory(partial))
-          problem = "cannot create '" + partial + "'" + (ec ? " (" + ec.message() + ")" : std::string());
+        problem = not_a_checkpoint(partial);
+        if (!problem.empty())
+          problem = "'" + partial + "' " + problem + ": not removed, no checkpoint written";
+        else
+          {
+            fs::remove_all(partial, ec);
+            fs::create_directories(partial, ec);
+            // The marker first: a .partial left by a stopped run is known as ours.
+            std::ofstream marker_file(partial + "/checkpoint.txt", std::ios::binary);
+            marker_file << marker << format_version << " (being written)\n";
+            marker_file.close();
+            if (ec || !fs::is_directory(partial) || !marker_file)
+              problem = "cannot create '" + partial + "'" + (ec ? " (" + ec.message() + ")" : std::string());
+          }
       }
     problem = Utilities::MPI::broadcast(comm, problem, 0);
     AssertThrow(problem.empty(), ExcMessage("Output/Checkpoint/Directory: " + problem));
@@ -348,7 +437,6 @@ namespace perideal
   CheckpointWriter::finish(const std::string &parameters, const unsigned int step, const double time,
                            const unsigned int stage, const double stage_start)
   {
-    namespace fs            = std::filesystem;
     const unsigned int rank = Utilities::MPI::this_mpi_process(comm);
     const std::string  partial = directory + ".partial", previous = directory + ".previous";
     flush();
@@ -376,12 +464,22 @@ namespace perideal
             total += sizes[r];
           }
         header << "parameters\n" << parameters;
+        std::string body = header.str();
+        if (body.back() != '\n')
+          body += '\n';
+        // Covered by its own CRC-32: a truncated header is named damaged.
+        body += "crc32 " + std::to_string(crc_of(body)) + "\n";
         std::ofstream text(partial + "/checkpoint.txt", std::ios::binary);
-        text << header.str();
+        text << body;
         text.close();
         std::error_code ec;
+        const std::string foreign = not_a_checkpoint(directory), foreign_previous = not_a_checkpoint(previous);
         if (!text)
           problem = "cannot write '" + partial + "/checkpoint.txt'";
+        else if (!foreign.empty() || !foreign_previous.empty())
+          problem = "'" + (foreign.empty() ? previous : directory) + "' " +
+                    (foreign.empty() ? foreign_previous : foreign) + ": not replaced; the checkpoint is in '" +
+                    partial + "'";
         else
           {
             // The previous checkpoint stays until the new one has its name.
@@ -397,8 +495,46 @@ namespace perideal
           }
       }
     problem = Utilities::MPI::broadcast(comm, problem, 0);
-    AssertThrow(problem.empty(), ExcMessage("Output/Checkpoint: " + problem));
+    AssertThrow(problem.empty(), ExcMessage("Output/Checkpoint/Directory: " + problem));
     return Utilities::MPI::broadcast(comm, total, 0);
+  }
+
+  // ------------------------------------------------------------ set-up check
+
+  void
+  check_checkpoint_directory(const std::string &directory, const std::string &output_directory,
+                             const std::string &parameter_file, const std::string &parameters, const MPI_Comm comm)
+  {
+    std::string problem;
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        // What the run reads: the parameter file and every file a key names.
+        std::vector<std::pair<std::string, std::string>> inputs{{"the parameter file", parameter_file}};
+        for (const auto &[key, value] : parameter_map(parameters))
+          {
+            const std::string name = key.substr(key.rfind('/') + 1);
+            if (!value.empty() && (name == "File" || (name.size() > 5 && name.compare(name.size() - 5, 5, " file") == 0)))
+              inputs.emplace_back(key, value);
+          }
+        for (const char *suffix : {"", ".partial", ".previous"})
+          {
+            const std::string folder = directory + suffix;
+            const fs::path    here   = resolved(folder);
+            std::string       why;
+            if (is_within(resolved(output_directory), here))
+              why = "is or contains the output directory '" + output_directory + "' (Output/Directory)";
+            for (const auto &[what, file] : inputs)
+              if (why.empty() && is_within(resolved(file).parent_path(), here))
+                why = "is or contains the folder of " + what + " '" + file + "'";
+            if (why.empty())
+              why = not_a_checkpoint(folder);
+            if (!why.empty() && problem.empty())
+              problem = "'" + folder + "' " + why + ". A checkpoint replaces its folder whole (and " + directory +
+                        ".partial, " + directory + ".previous): name a new or empty folder, or an earlier checkpoint";
+          }
+      }
+    problem = Utilities::MPI::broadcast(comm, problem, 0);
+    AssertThrow(problem.empty(), ExcMessage("Output/Checkpoint/Directory: " + problem));
   }
 
   // ------------------------------------------------------------ read
@@ -411,7 +547,8 @@ namespace perideal
       {
         bool             ok = false;
         CheckpointHeader header;
-        if (parse_header(read_file(directory + "/checkpoint.txt", ok), header) && ok)
+        const std::string text = read_file(directory + "/checkpoint.txt", ok);
+        if (ok && parse_header(text, header).empty())
           found = {header.stage, header.stage_start};
       }
     found.stage = Utilities::MPI::broadcast(comm, found.stage, 0);
@@ -452,10 +589,8 @@ namespace perideal
     AssertThrow(problem.empty(), ExcMessage(where + problem));
     header_text = Utilities::MPI::broadcast(comm, header_text, 0);
     {
-      const bool ok = parse_header(header_text, header);
-      AssertThrow(ok, ExcMessage(where + "checkpoint.txt is damaged or of another format (this PeriDeal reads "
-                                         "format " +
-                                 std::to_string(format_version) + ")"));
+      const std::string damaged = parse_header(header_text, header);
+      AssertThrow(damaged.empty(), ExcMessage(where + damaged));
     }
     AssertThrow(header.ranks == n_ranks,
                 ExcMessage(where + "the checkpoint was written by " + std::to_string(header.ranks) +
@@ -475,7 +610,7 @@ namespace perideal
     else if (bytes.size() != header.sizes[rank])
       problem = "'" + name + "' has " + std::to_string(bytes.size()) + " bytes, checkpoint.txt says " +
                 std::to_string(header.sizes[rank]) + ": the checkpoint is damaged";
-    else if (crc(bytes) != header.crc32s[rank])
+    else if (crc_of(bytes) != header.crc32s[rank])
       problem = "'" + name + "' fails its CRC-32 check: the checkpoint is damaged";
     problem = first_problem(problem, comm);
     AssertThrow(problem.empty(), ExcMessage(where + problem));

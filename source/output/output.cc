@@ -341,8 +341,9 @@ namespace perideal
   }
 
   void
-  OutputWriter::keep_parameters(const ParameterHandler &prm)
+  OutputWriter::keep_parameters(const ParameterHandler &prm, const std::string &file)
   {
+    parameter_file = file;
     std::ostringstream out;
     prm.print_parameters(out, ParameterHandler::PRM);
     parameters = out.str();
@@ -378,6 +379,32 @@ namespace perideal
   void
   OutputWriter::initialize(const MPI_Comm comm)
   {
+    // Checks only: a run refused later (a restart's checkpoint) must leave
+    // every file as it was; create_files() writes.
+    std::string problem;
+    if (Utilities::MPI::this_mpi_process(comm) == 0 && std::filesystem::exists(directory) &&
+        !std::filesystem::is_directory(directory))
+      problem = "'" + directory + "' exists and is not a directory: name another Output/Directory";
+    problem = Utilities::MPI::broadcast(comm, problem, 0);
+    AssertThrow(problem.empty(), ExcMessage("Output/Directory: " + problem));
+    const std::string longest_hdf5_file = base_name + "_000000.mesh.h5.tmp";
+    AssertThrow(!hdf5 || longest_hdf5_file.size() <= mpi_io_name_limit,
+                ExcMessage("Output/Base name: the HDF5 files' names (" + longest_hdf5_file + ") have " +
+                           std::to_string(longest_hdf5_file.size()) + " characters; MPI-IO takes at most " +
+                           std::to_string(mpi_io_name_limit) + ": shorten the base name"));
+    if (checkpoint.any())
+      check_checkpoint_directory(checkpoint.directory, directory, parameter_file, parameters, comm);
+    pvd_records.clear();
+    csv_lines.clear();
+    csv_on_disk = false;
+    xdmf_grids.clear();
+    mesh_file.clear();
+    mesh_cells.clear();
+  }
+
+  void
+  OutputWriter::create_files(const MPI_Comm comm)
+  {
     // Rank 0 creates it; every rank learns the outcome, so that all stop
     // alike (a throw on rank 0 alone would leave the others waiting).
     std::string problem;
@@ -385,21 +412,13 @@ namespace perideal
       {
         std::error_code ec;
         std::filesystem::create_directories(directory, ec);
-        if (std::filesystem::exists(directory) && !std::filesystem::is_directory(directory))
-          problem = "'" + directory + "' exists and is not a directory: name another Output/Directory";
-        else if (ec || !std::filesystem::is_directory(directory))
+        if (ec || !std::filesystem::is_directory(directory))
           problem = "cannot create '" + directory + "'" + (ec ? " (" + ec.message() + ")" : std::string());
         else if (!parameters.empty())
           problem = try_write_file_atomically(directory + "/" + base_name + ".parameters.prm", parameters);
       }
     problem = Utilities::MPI::broadcast(comm, problem, 0);
     AssertThrow(problem.empty(), ExcMessage("Output/Directory: " + problem));
-    pvd_records.clear();
-    csv_lines.clear();
-    csv_on_disk = false;
-    xdmf_grids.clear();
-    mesh_file.clear();
-    mesh_cells.clear();
   }
 
   void

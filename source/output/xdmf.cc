@@ -16,6 +16,9 @@
 
 #include <hdf5.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <iomanip>
 #include <map>
@@ -110,25 +113,54 @@ namespace perideal
                   ExcMessage("HDF5 output: cannot write the dataset '" + name + "'"));
     }
 
-    /// A file all ranks write at @p name + ".tmp", renamed to @p name by
-    /// rank 0 once every rank has closed it.
+    /// A file all ranks write at @p directory/@p file + ".tmp", renamed to
+    /// @p directory/@p file by rank 0 once every rank has closed it.
     class SharedFile
     {
     public:
-      SharedFile(const std::string &name, const MPI_Comm comm)
-        : name(name)
+      SharedFile(const std::string &directory, const std::string &file, const MPI_Comm comm)
+        : name(directory + "/" + file)
         , comm(comm)
       {
+        const std::string temporary = file + ".tmp";
+        AssertThrow(temporary.size() <= mpi_io_name_limit,
+                    ExcMessage("Output/Base name: the HDF5 file '" + temporary + "' has a name of " +
+                               std::to_string(temporary.size()) + " characters; MPI-IO takes at most " +
+                               std::to_string(mpi_io_name_limit) + ": shorten the base name"));
         const Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "create a property list");
         H5Pset_fapl_mpio(access, comm, MPI_INFO_NULL);
-        id = H5Fcreate((name + ".tmp").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access);
+        // Open MPI 4.1's MPI_File_open copies the name into a buffer of 256
+        // bytes with a suffix of its own (the shared file pointer's lock
+        // file): a name of 245 characters or more aborts the process
+        // ("buffer overflow detected"). Opened from its directory, the file
+        // is named by its own name alone.
+        const bool from_directory = name.size() + 4 > mpi_io_name_limit;
+        const int  here           = from_directory ? ::open(".", O_RDONLY | O_DIRECTORY) : -1;
+        AssertThrow(!from_directory || (here >= 0 && ::chdir(directory.c_str()) == 0),
+                    ExcMessage("HDF5 output: cannot open the directory '" + directory + "'"));
+        id = H5Fcreate((from_directory ? temporary : name + ".tmp").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access);
+        if (from_directory)
+          {
+            const bool back = ::fchdir(here) == 0;
+            ::close(here);
+            AssertThrow(back, ExcMessage("HDF5 output: cannot return to the working directory"));
+          }
         AssertThrow(id >= 0, ExcMessage("HDF5 output: cannot create the file '" + name + ".tmp'"));
       }
       ~SharedFile()
       {
+        // Left by an error (a write that failed): closed, and the
+        // incomplete file removed.
         if (id >= 0)
-          H5Fclose(id);
+          {
+            H5Fclose(id);
+            if (Utilities::MPI::this_mpi_process(comm) == 0)
+              std::remove((name + ".tmp").c_str());
+          }
       }
+      SharedFile(const SharedFile &) = delete;
+      SharedFile &
+      operator=(const SharedFile &) = delete;
       operator hid_t() const
       {
         return id;
@@ -136,8 +168,9 @@ namespace perideal
       void
       finish()
       {
-        AssertThrow(H5Fclose(id) >= 0, ExcMessage("HDF5 output: cannot close the file '" + name + ".tmp'"));
-        id = -1;
+        const herr_t closed = H5Fclose(id);
+        id                  = -1;
+        AssertThrow(closed >= 0, ExcMessage("HDF5 output: cannot close the file '" + name + ".tmp'"));
         MPI_Barrier(comm);
         if (Utilities::MPI::this_mpi_process(comm) == 0)
           AssertThrow(std::rename((name + ".tmp").c_str(), name.c_str()) == 0,
@@ -237,7 +270,7 @@ namespace perideal
         for (auto &node : connectivity)
           node += first_node;
         mesh_file = stem + ".mesh.h5";
-        SharedFile file(directory + "/" + mesh_file, comm);
+        SharedFile file(directory, mesh_file, comm);
         if (double_precision)
           write_field<double>(file, "nodes", total_nodes, 3, first_node, nodes);
         else
@@ -265,7 +298,7 @@ namespace perideal
            << "\n  </Attribute>\n";
     };
 
-    SharedFile          file(directory + "/" + stem + ".h5", comm);
+    SharedFile          file(directory, stem + ".h5", comm);
     std::vector<double> values;
     const auto          write = [&](const std::string &name, const unsigned int columns) {
       if (double_precision)

@@ -340,7 +340,7 @@ namespace perideal
     ParameterHandler prm;
     declare_parameters(prm, names);
     parse_input_file(prm, file, true);
-    deck.output.keep_parameters(prm); // written with the output (not on --dry-run)
+    deck.output.keep_parameters(prm, file); // written with the output (not on --dry-run)
 
     prm.enter_subsection("Discretization");
     deck.scene.parse_parameters(prm);

@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 namespace perideal
 {
@@ -77,6 +78,23 @@ namespace perideal
       }
 
     record.dt_stable = model->stable_time_step();
+    // The stages still to come are checked now, not when they start (after
+    // the ones before them have run and written their output).
+    for (unsigned int k = stage; k < deck.stages.size(); ++k)
+      {
+        deck.stages[k].integrator->initialize(access());
+        try
+          {
+            deck.stages[k].integrator->check_stage();
+          }
+        catch (const ExceptionBase &e)
+          {
+            std::ostringstream message;
+            e.print_info(message);
+            AssertThrow(false, ExcMessage("Solver stages/" + deck.stages[k].name + ": " +
+                                          Utilities::trim(message.str())));
+          }
+      }
     deck.integrator->initialize(access());
     deck.integrator->setup();
     record.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -87,6 +105,7 @@ namespace perideal
   {
     setup(true);
     access().stop_if_interrupted_in_setup();
+    deck.output.initialize(comm); // the checks of the output and checkpoint directories
     post->print_setup_report();
     const AvailableMemory available = available_memory(comm);
     if (std::isfinite(available.bytes_per_rank))

@@ -57,6 +57,81 @@ namespace perideal
     , has_continuum(access.coupling != nullptr)
   {}
 
+  std::vector<std::pair<Point<3>, unsigned int>>
+  ImplicitSolver::collect_unknowns()
+  {
+    // The unknowns (with continuum blocks: the free DoFs of real points and
+    // FE nodes, coupled_tangent.h; without: every owned PD DoF, prescribed
+    // ones with identity rows), by position and component: the rigid-body
+    // modes about their centroid are the AMG's near null space and the
+    // motions some condition must remove.
+    std::vector<std::pair<Point<dim>, unsigned int>> unknowns;
+    const std::vector<std::uint8_t>                 &held = access.conditions.prescribed;
+    unknown_dofs.clear();
+    pd_free.clear();
+    fe_free.clear();
+    if (has_continuum)
+      state.for_each([&](const MechanicalState::DoF &d) {
+        if (!held[d.number] && !state.is_virtual(d.number))
+          {
+            unknown_dofs.push_back(d.number);
+            (state.is_fe(d.number) ? fe_free : pd_free)
+              .push_back(state.is_fe(d.number) ? state.fe_local(d.number) : d.number);
+          }
+      });
+    else
+      for (unsigned int k = 0; k < dim * cloud.n_owned(); ++k)
+        unknown_dofs.push_back(k);
+    for (const unsigned int k : unknown_dofs)
+      unknowns.emplace_back(state.position(k), state.component(k));
+    return unknowns;
+  }
+
+  std::pair<std::array<double, 3>, double>
+  ImplicitSolver::centre_and_extent(const std::vector<std::pair<Point<3>, unsigned int>> &unknowns) const
+  {
+    std::array<double, dim>     centre{{0, 0, 0}};
+    std::array<double, dim + 1> s{{0, 0, 0, 0}};
+    for (const auto &[x, c] : unknowns)
+      {
+        for (unsigned int d = 0; d < dim; ++d)
+          s[d] += x[d];
+        s[dim] += 1;
+      }
+    Utilities::MPI::sum(ArrayView<const double>(s.data(), s.size()), comm, ArrayView<double>(s.data(), s.size()));
+    for (unsigned int d = 0; d < dim; ++d)
+      centre[d] = s[dim] > 0 ? s[d] / s[dim] : 0.0;
+    double extent = 0;
+    for (const auto &[p, c] : unknowns)
+      for (unsigned int d = 0; d < dim; ++d)
+        extent = std::max(extent, std::abs(p[d] - centre[d]));
+    return {centre, Utilities::MPI::max(extent, comm)};
+  }
+
+  void
+  ImplicitSolver::check_supports(const std::vector<std::pair<Point<3>, unsigned int>> &unknowns) const
+  {
+    // A motion is removed if a prescribed entry moves with it; a hinge or
+    // a single held point leaves combinations of the coordinate modes free.
+    std::vector<std::pair<Point<dim>, unsigned int>> prescribed;
+    for (const auto &c : access.conditions.constraints)
+      prescribed.emplace_back(state.position(c.dof), state.component(c.dof));
+    const auto [centre, extent] = centre_and_extent(unknowns);
+    std::string free_modes;
+    for (const auto &mode : free_rigid_modes(prescribed, centre, extent, comm))
+      free_modes += (free_modes.empty() ? "" : ", ") + mode;
+    AssertThrow(free_modes.empty(),
+                ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
+                           "motion(s) " + free_modes + ". Prescribe displacements (Type = Prescribed "
+                           "displacement) on regions that hold the body in place"));
+  }
+
+  void
+  ImplicitSolver::check_supports()
+  {
+    check_supports(collect_unknowns());
+  }
+
   void
   ImplicitSolver::setup(const bool need_supports)
   {
@@ -77,66 +152,18 @@ namespace perideal
         constrained_dofs[k] = flags.local_element(k) != 0;
     }
 
-    // The unknowns (with continuum blocks: the free DoFs of real points and
-    // FE nodes, coupled_tangent.h; without: every owned PD DoF, prescribed
-    // ones with identity rows) and the prescribed entries, by position and
-    // component: the rigid-body modes about the centroid are the AMG's near
-    // null space and the motions some condition must remove.
-    std::vector<std::pair<Point<dim>, unsigned int>> unknowns, prescribed;
-    std::vector<unsigned int>                        pd_free, fe_free;
-    const std::vector<std::uint8_t>                 &held = access.conditions.prescribed;
-    unknown_dofs.clear();
-    if (has_continuum)
-      state.for_each([&](const MechanicalState::DoF &d) {
-        if (!held[d.number] && !state.is_virtual(d.number))
-          {
-            unknown_dofs.push_back(d.number);
-            (state.is_fe(d.number) ? fe_free : pd_free)
-              .push_back(state.is_fe(d.number) ? state.fe_local(d.number) : d.number);
-          }
-      });
-    else
-      for (unsigned int k = 0; k < dim * n_owned; ++k)
-        unknown_dofs.push_back(k);
-    for (const unsigned int k : unknown_dofs)
-      unknowns.emplace_back(state.position(k), state.component(k));
-    for (const auto &c : access.conditions.constraints)
-      prescribed.emplace_back(state.position(c.dof), state.component(c.dof));
-
-    std::array<double, dim> centre{{0, 0, 0}};
-    {
-      std::array<double, dim + 1> s{{0, 0, 0, 0}};
-      for (const auto &[x, c] : unknowns)
-        {
-          for (unsigned int d = 0; d < dim; ++d)
-            s[d] += x[d];
-          s[dim] += 1;
-        }
-      Utilities::MPI::sum(ArrayView<const double>(s.data(), s.size()), comm, ArrayView<double>(s.data(), s.size()));
-      for (unsigned int d = 0; d < dim; ++d)
-        centre[d] = s[dim] > 0 ? s[d] / s[dim] : 0.0;
-    }
+    const std::vector<std::pair<Point<dim>, unsigned int>> unknowns = collect_unknowns();
+    const auto [centre, extent] = centre_and_extent(unknowns);
     const unsigned int n = unknowns.size();
     rigid_modes.assign(6 * n, 0.0);
-    double extent = 0;
     for (unsigned int k = 0; k < n; ++k)
       {
-        const auto  &[p, c] = unknowns[k];
-        const double x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
-        extent = std::max({extent, std::abs(x), std::abs(y), std::abs(z)});
+        const auto &[p, c] = unknowns[k];
         for (unsigned int mode = 0; mode < 6; ++mode)
-          rigid_modes[mode * n + k] = rigid_mode_value(mode, c, x, y, z);
+          rigid_modes[mode * n + k] = rigid_mode_value(mode, c, p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]);
       }
-    extent = Utilities::MPI::max(extent, comm);
-    // A motion is removed if a prescribed entry moves with it; a hinge or
-    // a single held point leaves combinations of the coordinate modes free.
-    std::string free_modes;
-    for (const auto &mode : free_rigid_modes(prescribed, centre, extent, comm))
-      free_modes += (free_modes.empty() ? "" : ", ") + mode;
-    AssertThrow(!need_supports || free_modes.empty(),
-                ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
-                           "motion(s) " + free_modes + ". Prescribe displacements (Type = Prescribed "
-                           "displacement) on regions that hold the body in place"));
+    if (need_supports)
+      check_supports(unknowns);
 
     {
       TimerOutput::Scope t(timer, "implicit: sparsity");
@@ -602,10 +629,18 @@ namespace perideal
     AssertThrow(!access->last_stage || completed_step < n_steps,
                 ExcMessage("--restart '" + access->restart + "': the checkpoint is of the run's last step (" +
                            std::to_string(completed_step) + "): nothing is left to run"));
+    access->post.output.create_files(access->comm); // the checkpoint is accepted: now write
     first_step = completed_step + 1;
     // The next step's load work starts from the loads of the checkpoint's time.
     if (access->conditions.has_loads())
       access->conditions.evaluate_loads(completed_time);
+  }
+
+  void
+  ImplicitIntegrator::check_stage()
+  {
+    if (need_supports())
+      ImplicitSolver(*access, access->deck.solver.implicit).check_supports();
   }
 
   void

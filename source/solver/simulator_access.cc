@@ -54,6 +54,7 @@ namespace perideal
                 ExcMessage("Solver/Initial time: at t = " + sci(latest, 6) + " the time step " + sci(dt, 6) +
                            " is below the resolution of the time (1e-10 of t): t + dt would not be t plus the "
                            "step. Count the time from 0 (Initial time = 0, Final time = the duration)"));
+    post.output.create_files(comm); // every check of the set-up has passed: now write
     if (post.output.is_output_step(0, n_steps))
       post.write_output(0, time, post.output.is_globals_step(0, n_steps), post.output.is_field_step(0, n_steps));
   }
@@ -93,7 +94,7 @@ namespace perideal
     // Said before the summary: mpirun, stopping the job, may drop what a
     // rank writes last.
     if (Utilities::MPI::this_mpi_process(comm) == 0)
-      std::cerr << "Error: " << message << std::endl << checkpoint_note;
+      write_to_stderr("Error: " + message + "\n" + checkpoint_note);
     post.print_summary(loop_seconds, step);
     throw Interrupted(signal, message, /*reported=*/true);
   }
@@ -176,7 +177,9 @@ namespace perideal
     const CheckpointParameters &parameters = access->deck.output.checkpoint;
     const MPI_Comm              comm       = access->comm;
     checkpoint_note.clear();
-    bool due = (parameters.frequency > 0 && step % parameters.frequency == 0) || (signal && parameters.on_signal);
+    // Counted by the run's step (Solver stages number on), not the stage's.
+    const unsigned int run_step = step + access->post.step_offset;
+    bool due = (parameters.frequency > 0 && run_step % parameters.frequency == 0) || (signal && parameters.on_signal);
     if (parameters.minutes > 0 && !due)
       {
         // Rank 0's clock decides, for all.
@@ -195,15 +198,15 @@ namespace perideal
       access->save_parts(out);
       out.section("integrator");
       save_state(out);
-      bytes = out.finish(access->deck.output.parameter_text(), step + access->post.step_offset, time, access->stage,
+      bytes = out.finish(access->deck.output.parameter_text(), run_step, time, access->stage,
                          access->deck.solver.initial_time);
     }
     last_checkpoint = std::chrono::steady_clock::now();
-    access->pcout << "  checkpoint of step " << step + access->post.step_offset << " (t = " << sci(time, 6) << "): " << parameters.directory
+    access->pcout << "  checkpoint of step " << run_step << " (t = " << sci(time, 6) << "): " << parameters.directory
                   << ", " << (bytes >= 1048576 ? mib(bytes) : sci(bytes / 1024, 3) + " KiB") << " in " << sci(std::chrono::duration<double>(last_checkpoint - now).count(), 3)
                   << " s" << std::endl;
     const unsigned int ranks = Utilities::MPI::n_mpi_processes(comm);
-    checkpoint_note = "A checkpoint of step " + std::to_string(step + access->post.step_offset) + " is in '" + parameters.directory +
+    checkpoint_note = "A checkpoint of step " + std::to_string(run_step) + " is in '" + parameters.directory +
                       "': continue with pd_app --restart " + parameters.directory + " and the same parameter file" +
                       (ranks > 1 ? " on " + std::to_string(ranks) + " ranks" : std::string()) + ".\n";
   }

@@ -260,6 +260,7 @@ namespace perideal
           AssertThrow(!access->last_stage || !at_end(),
                       ExcMessage("--restart '" + access->restart + "': the checkpoint is of the run's last step (" +
                                  std::to_string(step) + ", t = " + sci(time, 6) + "): nothing is left to run"));
+          access->post.output.create_files(comm); // the checkpoint is accepted: now write
           if (conditions.has_loads())
             {
               conditions.evaluate_loads(time);

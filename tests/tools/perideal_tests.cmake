@@ -1,6 +1,6 @@
 # The functions every folder of the suite defines its tests with. Each test
 # runs through the one runner, tests/tools/run.sh (its modes: error, output,
-# interrupt, check), and checks a run's CSV and output with the one checker
+# interrupt, restart, check; error with -k: a refused run changes no file), and checks a run's CSV and output with the one checker
 # program, perideal_check (tests/tools/check.h and check_*.cc); the C++ test
 # programs share check.h through tests/physics/harness.h.
 #
@@ -46,13 +46,18 @@ function(perideal_pd_app_command var np)
 endfunction()
 
 # perideal_error_test(NAME NP REGEX re [STDOUT re...] [MEMORY_LIMIT kib]
-#                     [FIFO path] [TIMEOUT s] COMMAND ...): COMMAND must fail
+#                     [FILE_LIMIT kib] [UNCHANGED prepare] [FIFO path]
+#                     [TIMEOUT s] COMMAND ...): COMMAND must fail
 # cleanly with a line 'Error: ' on standard error, which matches REGEX
 # (extended, line by line); standard output matches each STDOUT; with
-# MEMORY_LIMIT its virtual memory is limited to that many KiB; FIFO is made
-# first (a named pipe nothing writes to). Runner mode 'error'.
+# MEMORY_LIMIT its virtual memory is limited to that many KiB; with
+# FILE_LIMIT a file it writes to that many KiB (a write beyond fails as on a
+# full disk); FIFO is made first (a named pipe nothing writes to). UNCHANGED:
+# COMMAND runs in a new directory where the shell text PREPARE has made files
+# first, and every file there must be byte for byte as before, none added or
+# removed (a refused run changes nothing). Runner mode 'error'.
 function(perideal_error_test name np)
-  cmake_parse_arguments(T "" "REGEX;MEMORY_LIMIT;FIFO;TIMEOUT" "STDOUT;COMMAND" ${ARGN})
+  cmake_parse_arguments(T "" "REGEX;MEMORY_LIMIT;FILE_LIMIT;UNCHANGED;FIFO;TIMEOUT" "STDOUT;COMMAND" ${ARGN})
   set(runner ${PERIDEAL_RUN})
   if(T_FIFO)
     list(APPEND runner --fifo ${T_FIFO})
@@ -60,6 +65,12 @@ function(perideal_error_test name np)
   list(APPEND runner error)
   if(T_MEMORY_LIMIT)
     list(APPEND runner -v ${T_MEMORY_LIMIT})
+  endif()
+  if(T_FILE_LIMIT)
+    list(APPEND runner -f ${T_FILE_LIMIT})
+  endif()
+  if(DEFINED T_UNCHANGED)
+    list(APPEND runner -k ${T_UNCHANGED})
   endif()
   foreach(re ${T_STDOUT})
     list(APPEND runner -o ${re})

@@ -21,6 +21,14 @@
 #     (ulimit -v, RLIMIT_AS, inherited by mpirun's ranks): a scene too large
 #     must be refused, not allocated.
 #   -o REGEX: standard output must match REGEX too (extended; may be repeated).
+#   -k PREPARE: a refused run changes no file. COMMAND runs in a new empty
+#     directory after the shell text PREPARE (bash, there) has made the files
+#     a user has there (data, an output folder, a checkpoint); after the run
+#     every file and folder there must be as before: the same names and
+#     types, the same bytes (SHA-256), none added or removed. Paths in
+#     COMMAND and PREPARE should be absolute or relative to that directory.
+#   -f KIB: COMMAND may write files of at most KIB kibibytes (ulimit -f,
+#     SIGXFSZ ignored: a write beyond fails with EFBIG, as on a full disk).
 #
 # MODE output [CHECK...] -- COMMAND [ARGUMENTS...]
 #   runs COMMAND in a new empty directory and passes only if it exits with 0
@@ -112,11 +120,13 @@ usage() {
 
 # ----------------------------------------------------------------- error
 mode_error() {
-  local limit= stdout_patterns=()
+  local limit= file_limit= stdout_patterns=() prepare= keep=0
   while [[ $# -gt 0 ]]; do
     case $1 in
       -v) limit=$2; shift 2 ;;
+      -f) file_limit=$2; shift 2 ;;
       -o) stdout_patterns+=("$2"); shift 2 ;;
+      -k) prepare=$2; keep=1; shift 2 ;;
       *) break ;;
     esac
   done
@@ -126,12 +136,31 @@ mode_error() {
 
   err=$(mktemp)
   out=$(mktemp)
-  trap 'rm -f "$err" "$out"' EXIT
-  if [[ -n $limit ]]; then
-    (ulimit -v "$limit" && exec "$@") >"$out" 2>"$err"
-  else
-    "$@" >"$out" 2>"$err"
+  work=
+  trap 'rm -f "$err" "$out"; [[ -z $work ]] || rm -rf "$work"' EXIT
+  # Every entry under the directory: its type, name and, for a file, SHA-256.
+  snapshot() {
+    (cd "$work" && find . -mindepth 1 -printf '%y %p\n' | LC_ALL=C sort &&
+      find . -type f -exec sha256sum {} + | LC_ALL=C sort -k 2)
+  }
+  local before=
+  if [[ $keep -eq 1 ]]; then
+    work=$(mktemp -d "${TMPDIR:-/tmp}/unchanged.XXXXXX")
+    (cd "$work" && bash -e -c "$prepare") >"$out" 2>"$err" ||
+      { cat "$out" "$err"; echo "FAIL: the preparation failed: $prepare"; exit 1; }
+    before=$(snapshot)
+    echo "--- files before the run:"
+    echo "$before" | grep -v '^[0-9a-f]\{64\} '
   fi
+  (
+    [[ -z $work ]] || cd "$work" || exit 2
+    [[ -z $limit ]] || ulimit -v "$limit" || exit 2
+    if [[ -n $file_limit ]]; then
+      trap '' XFSZ
+      ulimit -f "$file_limit" || exit 2
+    fi
+    exec "$@"
+  ) >"$out" 2>"$err"
   local rc=$?
   echo "--- standard output:"
   cat "$out"
@@ -151,6 +180,14 @@ mode_error() {
   for p in ${stdout_patterns[@]+"${stdout_patterns[@]}"}; do
     grep -q -E -e "$p" "$out" || fail "standard output does not match: $p"
   done
+  if [[ $keep -eq 1 ]]; then
+    local after
+    after=$(snapshot)
+    [[ $after == "$before" ]] ||
+      { diff <(echo "$before") <(echo "$after"); fail "the files differ after the refused run (above: < before, > after)"; }
+    echo "PASS: exit code $rc, the expected message, every file as before the run"
+    return
+  fi
   echo "PASS: exit code $rc and the expected message"
 }
 

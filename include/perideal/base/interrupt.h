@@ -28,6 +28,12 @@ namespace perideal
   int
   interrupt_signal(const MPI_Comm comm);
 
+  /// Writes @p text to standard error with one write() (repeated only for
+  /// what a signal or a full pipe cut short): under mpirun another rank's
+  /// line cannot land between an "Error: " and its message.
+  void
+  write_to_stderr(const std::string &text);
+
   /// "SIGTERM", "SIGINT", else "signal N".
   std::string
   signal_name(const int signal);

@@ -14,10 +14,15 @@
 // that state (stage fields, contact lists, tangents) is recomputed, so the
 // continued run repeats the uninterrupted one bit for bit.
 //
-// Written whole or not at all: every rank writes into DIR.partial, rank 0
-// adds checkpoint.txt last, then DIR becomes DIR.previous, DIR.partial
+// Written whole or not at all: rank 0 marks DIR.partial as a checkpoint
+// being written (checkpoint.txt with its first line only), every rank writes
+// into it, rank 0 writes checkpoint.txt whole last (its last line the CRC-32
+// of the rest), then DIR becomes DIR.previous, DIR.partial
 // becomes DIR and DIR.previous is removed; a run stopped in between leaves
-// DIR or DIR.previous complete, and a restart says which to use.
+// DIR or DIR.previous complete, and a restart says which to use. Only a
+// checkpoint (checkpoint.txt beginning with "PeriDeal checkpoint ", and
+// rank-NNNN.bin files, nothing else) or an empty folder is ever removed or
+// replaced: set-up refuses any other (check_checkpoint_directory()).
 //
 // Each part writes and reads its own state (save/load), in one order, with
 // named sections, so that a reader out of step names the section.
@@ -291,6 +296,17 @@ namespace perideal
   };
   CheckpointStage
   checkpoint_stage(const std::string &directory, const MPI_Comm comm);
+
+  /// Refuses (an Error naming Output/Checkpoint/Directory) a checkpoint
+  /// directory @p directory whose writing would delete what PeriDeal did not
+  /// write: it, DIR.partial or DIR.previous exists and is not empty nor a
+  /// checkpoint (checkpoint.txt beginning with "PeriDeal checkpoint " and
+  /// rank-NNNN.bin files only), or is or contains @p output_directory or the
+  /// folder of a file the run reads (@p parameter_file, every key of
+  /// @p parameters named File or "... file"). Writes nothing. Collective.
+  void
+  check_checkpoint_directory(const std::string &directory, const std::string &output_directory,
+                             const std::string &parameter_file, const std::string &parameters, const MPI_Comm comm);
 
   /// Reads the checkpoint in @p directory: checks that it is complete and
   /// whole (sizes, CRC-32), written by as many ranks as this run has, and

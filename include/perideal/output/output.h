@@ -65,15 +65,23 @@ namespace perideal
     }
 
     /// Keeps the text of @p prm, the run's parameters as read (every key,
-    /// defaults included, in deal.II's PRM format), for initialize().
+    /// defaults included, in deal.II's PRM format) from @p file, for
+    /// initialize() and create_files().
     void
-    keep_parameters(const ParameterHandler &prm);
+    keep_parameters(const ParameterHandler &prm, const std::string &file);
 
-    /// Creates the output directory, writes the kept parameters there as
-    /// <base name>.parameters.prm (rank 0; pd_app on that file repeats the
-    /// run) and clears the series. Collective.
+    /// Checks that the output directory and the checkpoint's can be used
+    /// (check_checkpoint_directory()) and clears the series; writes nothing.
+    /// Collective.
     void
     initialize(const MPI_Comm comm);
+
+    /// Creates the output directory and writes the kept parameters there as
+    /// <base name>.parameters.prm (rank 0; pd_app on that file repeats the
+    /// run): once every check of the set-up (a restart's too) has passed,
+    /// before the first output. Collective.
+    void
+    create_files(const MPI_Comm comm);
 
     /// A field constant per cell: 1 component (a scalar), 3 (a vector) or 9
     /// (a 3x3 tensor, row-major), each one value per active cell.
@@ -145,7 +153,7 @@ namespace perideal
                const double                    time,
                const MPI_Comm                  comm);
 
-    std::string                                 parameters;
+    std::string                                 parameters, parameter_file;
     std::vector<std::pair<double, std::string>> pvd_records;
     std::vector<std::string>                    csv_lines;
     bool csv_on_disk = false; // the file holds csv_lines but the last: append
@@ -157,6 +165,11 @@ namespace perideal
     std::uint64_t             mesh_cells_total = 0, mesh_nodes_total = 0;
     std::vector<unsigned int> mesh_cells;
   };
+
+  /// The longest file name (path included) Open MPI 4.1's MPI_File_open
+  /// takes: 245 characters abort the process (xdmf.cc opens a longer path
+  /// from its directory).
+  constexpr std::size_t mpi_io_name_limit = 244;
 
   /// The locally owned cells of @p dof_handler whose @p written_cells entry
   /// (by active cell index) is true, in their order, for the writers that lay

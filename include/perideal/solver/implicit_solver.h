@@ -19,6 +19,7 @@
 
 #include <deal.II/lac/trilinos_precondition.h>
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -38,6 +39,10 @@ namespace perideal
     /// @p need_supports, the check that conditions remove them). Collective.
     void
     setup(const bool need_supports);
+    /// The check alone: an Error if no condition removes some rigid-body
+    /// motion (a singular quasistatic problem). Collective.
+    void
+    check_supports();
     /// Newton, then break bonds and solve again while bonds break; sets
     /// record.last_newton (iterations summed over the solves, the failure)
     /// and record.last_damage_solves. False if a solve failed: the state is
@@ -66,6 +71,14 @@ namespace perideal
     std::vector<double> u_predicted;         // Newmark predictor, per DoF of the mechanical state
 
   private:
+    /// Sets unknown_dofs (pd_free, fe_free); returns their positions and components.
+    std::vector<std::pair<dealii::Point<3>, unsigned int>>
+    collect_unknowns();
+    /// The centroid of @p unknowns and their largest distance from it along an axis. Collective.
+    std::pair<std::array<double, 3>, double>
+    centre_and_extent(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns) const;
+    void
+    check_supports(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns) const;
     NewtonResult
     solve_newton(const unsigned int step);
     /// R = V (f + b) - M a on the free DoFs of the current displacement;
@@ -110,6 +123,7 @@ namespace perideal
     // identity rows), or with continuum blocks the free DoFs of
     // coupled_tangent.h (real points' entries, then FE DoFs).
     std::vector<unsigned int>       unknown_dofs;
+    std::vector<unsigned int>       pd_free, fe_free; // with continuum blocks: coupled_tangent.h's
     std::vector<double>             rigid_modes;      // 6 x owned DoFs, column major
     std::vector<double>             block_inverse;    // matrix free: 9 per owned point
     std::unique_ptr<dealii::TrilinosWrappers::PreconditionAMG> amg; // of the current solve
@@ -125,6 +139,8 @@ namespace perideal
   public:
     void
     dry_run() override;
+    void
+    check_stage() override;
     void
     report_summary_speed(const double loop_seconds, const unsigned int steps) const override;
     void

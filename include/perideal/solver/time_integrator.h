@@ -124,6 +124,12 @@ namespace perideal
     virtual void
     report_setup() const
     {}
+    /// Solver stages: at the run's set-up, before any stage runs, what
+    /// would stop this one when it starts (a singular quasistatic problem),
+    /// without setting it up. Collective.
+    virtual void
+    check_stage()
+    {}
     /// --dry-run: what set-up the integrator itself does (an implicit
     /// tangent's sparsity), reported.
     virtual void
