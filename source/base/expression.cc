@@ -1,4 +1,5 @@
 #include <perideal/base/expression.h>
+#include <perideal/base/time_function.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
@@ -92,10 +93,25 @@ namespace perideal
       }
     catch (const mu::Parser::exception_type &e)
       {
+        // A key of fewer variables (e.g. t alone) says which it takes.
+        std::string allowed;
+        if (variables != std::vector<std::string>{"x", "y", "z", "t"})
+          for (unsigned int v = 0; v < variables.size(); ++v)
+            allowed += (v == 0 ? " (the key's variables: " : ", ") + variables[v] + (v + 1 == variables.size() ? ")" : "");
         AssertThrow(false,
                     dealii::ExcMessage(where + ": cannot parse the expression '" +
-                                       expression + "': " + e.GetMsg()));
+                                       expression + "': " + e.GetMsg() + allowed));
       }
+  }
+
+  TimeFunction::TimeFunction(const std::string &text, const std::string &where)
+    : expression(dealii::Utilities::trim(text), where, 0, {"t"})
+  {}
+
+  double
+  TimeFunction::operator()(const double t) const
+  {
+    return expression.value(dealii::Point<3>(t, 0, 0), t); // t is bound to the first variable
   }
 
   Expression::~Expression() = default;

@@ -290,7 +290,8 @@ namespace perideal
                     "threshold, 0 until one has; with Rate, the crack speed (doc/models.md, Crack tip).")
   PERIDEAL_REGISTER(PointQuantity, VonMisesStressQuantity, "Von Mises stress",
                     "of a point of a correspondence material, sqrt(3 J2) of its Cauchy stress (0 at the points of "
-                    "other materials); with Maximum: where a Von Mises stress damage model stands.")
+                    "other materials; a scene without such a material is refused); with Maximum: where a Von "
+                    "Mises stress damage model stands.")
   PERIDEAL_REGISTER(PointQuantity, BondStretch, "Bond stretch",
                     "the largest stretch (|y| - |xi|)/|xi| of a point's intact bonds (with Maximum: how close "
                     "the region is to a critical stretch).")

@@ -55,6 +55,10 @@ namespace perideal
       reference = std::make_shared<Expression>(prm.get("Reference"), path + "/Reference");
     rate        = prm.get_bool("Rate");
     rate_window = prm.get_double("Rate window");
+    AssertThrow(rate || rate_window == 0,
+                ExcMessage(path + "/Rate window is " + prm.get("Rate window") +
+                           ", but Rate is false: the window would smooth no column. Set Rate = true, or "
+                           "remove the window"));
     history.clear();
     quantity  = Registry<PointQuantity>::instance().create(variable, path + "/Variable");
     quantity->parse_parameters(prm, path);

@@ -153,6 +153,7 @@ namespace perideal
       for (unsigned int b = 0; b < n_blocks; ++b)
         if (model_of[a * n_blocks + b] >= 0)
           takes_part[a] = 1;
+    warn_radius_beyond_horizon();
 
     bool velocity_needed = false;
     for (const ContactModel *model : models)
@@ -183,6 +184,29 @@ namespace perideal
     lists.resize(models.size());
   }
 
+  void
+  Contact::warn_radius_beyond_horizon()
+  {
+    // Per model, the smallest horizon of a block it acts on.
+    const unsigned int  n_blocks = blocks.size();
+    std::vector<int>    smallest(models.size(), -1);
+    for (unsigned int a = 0; a < n_blocks; ++a)
+      for (unsigned int b = 0; b < n_blocks; ++b)
+        if (const int m = model_of[a * n_blocks + b]; m >= 0)
+          for (const unsigned int k : {a, b})
+            if (smallest[m] < 0 || blocks[k].horizon < blocks[smallest[m]].horizon)
+              smallest[m] = k;
+    for (const auto &[name, model] : parameters.models)
+      {
+        const auto m = std::find(models.begin(), models.end(), model.get()) - models.begin();
+        if (smallest[m] >= 0 && model->contact_radius() > blocks[smallest[m]].horizon)
+          setup_warnings.push_back("Contact models/" + name + "/Contact radius " + sci(model->contact_radius()) +
+                                   " exceeds the horizon " + sci(blocks[smallest[m]].horizon) + " of block '" +
+                                   blocks[smallest[m]].name + "': points repel farther apart than a point "
+                                   "bonds (a contact radius is usually 0.5 to 1 point spacing)");
+      }
+  }
+
   // ---------------------------------------------------------------- search
 
   namespace
@@ -209,6 +233,24 @@ namespace perideal
         return std::int64_t(std::floor((x - lower[d]) / edge)) + 1; // >= 1: neighbors at -1 stay >= 0
       }
     };
+
+    /// Refuses a pair of blocks whose points coincide (BestPoint's tag: the
+    /// two blocks' index pair), naming them and the place.
+    void
+    refuse_coincident(const BestPoint &pair, const std::vector<Block> &blocks)
+    {
+      if (!pair.found)
+        return;
+      const unsigned int n_blocks = blocks.size();
+      const unsigned int code     = static_cast<unsigned int>(pair.tag);
+      const Block       &a = blocks[code / n_blocks], &b = blocks[code % n_blocks];
+      AssertThrow(false,
+                  ExcMessage("Contact: blocks '" + a.name + "' and '" + b.name + "' have points in the same place (" +
+                             pair.describe() + " and a point of '" + b.name + "'), unbonded: the contact "
+                             "force of two points at distance 0 has no direction, so they would pass through "
+                             "each other without a force. Move one block by a fraction of the point spacing "
+                             "(the bodies should touch, not overlap), or take the pair out of the contact"));
+    }
   } // namespace
 
   void
@@ -394,6 +436,14 @@ namespace perideal
     // O(1) rather than by a scan of the family.
     constexpr std::size_t    no_bond = std::numeric_limits<std::size_t>::max();
     std::vector<std::size_t> bond_to(cloud.n_local(), no_bond);
+    // Unbonded pairs at distance 0 at the start (the first build).
+    BestPoint coincident(BestPoint::Order::smallest);
+    const auto same_place = [&](const unsigned int i, const unsigned int j) {
+      bool same = true;
+      for (unsigned int d = 0; d < dim; ++d)
+        same = same && y[dim * i + d] == y[dim * j + d];
+      return same;
+    };
     for (unsigned int i = 0; i < n; ++i)
       {
         if (!active[i])
@@ -435,6 +485,9 @@ namespace perideal
               {
                 list.first.push_back(i);
                 list.second.push_back(j);
+                if (builds == 0 && same_place(i, j))
+                  coincident.consider(global_id(i), global_id(i), &y[dim * i], BestPoint::Kind::point,
+                                      block[i] * n_blocks + block[j]);
               }
             else
               {
@@ -446,11 +499,14 @@ namespace perideal
         for (std::size_t k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
           bond_to[bonds.neighbor[k]] = no_bond;
       }
+    if (builds == 0)
+      refuse_coincident(coincident.global(comm), blocks);
     ++builds;
     steps_since_build = 0;
     built             = true;
     scanned_version   = std::numeric_limits<std::size_t>::max();
   }
+
 
   std::size_t
   Contact::n_pairs() const

@@ -17,7 +17,7 @@
 //
 // "Time dependent short range force" is the same with k an expression in t.
 
-#include <perideal/base/expression.h>
+#include <perideal/base/time_function.h>
 #include <perideal/contact/contact_model.h>
 
 #include <algorithm>
@@ -192,15 +192,16 @@ namespace perideal
       declare_parameters(ParameterHandler &prm)
       {
         prm.declare_entry("Spring constant", "0", Patterns::Anything(),
-                          "k(t) as a muparser expression in t (e.g. '1e9*min(1, t/1e-5)'): a contact that "
-                          "stiffens or softens in time (Peridigm's Time Dependent Short Range Force).");
+                          "k(t) as a muparser expression in the time t alone (e.g. '1e9*min(1, t/1e-5)'; x, y "
+                          "and z are refused): a contact that stiffens or softens in time (Peridigm's Time "
+                          "Dependent Short Range Force).");
         declare_common(prm);
       }
 
       void
       parse_parameters(ParameterHandler &prm, const std::string &path) override
       {
-        function = std::make_shared<Expression>(prm.get("Spring constant"), path + "/Spring constant");
+        function = std::make_shared<TimeFunction>(prm.get("Spring constant"), path + "/Spring constant");
         parse_common(prm, path);
       }
 
@@ -221,14 +222,14 @@ namespace perideal
       double
       spring(const double t) const
       {
-        const double value = function->value(Point<3>(), t);
+        const double value = (*function)(t);
         AssertThrow(std::isfinite(value) && value >= 0,
                     ExcMessage(function->text() + " (Contact models: Spring constant) gives " + std::to_string(value) +
                                " at t = " + std::to_string(t) + ": it must be finite and not negative"));
         return value;
       }
 
-      std::shared_ptr<Expression> function;
+      std::shared_ptr<TimeFunction> function;
     };
   } // namespace
 

@@ -12,7 +12,7 @@
 // Like it, it compares the total stretch (a thermal strain is not
 // subtracted; doc/thermal.md).
 
-#include <perideal/base/expression.h>
+#include <perideal/base/time_function.h>
 #include <perideal/damage/damage_model.h>
 
 #include <cmath>
@@ -41,8 +41,7 @@ namespace perideal
       parse_parameters(ParameterHandler &prm, const std::string &path) override
       {
         where      = path + "/Critical stretch";
-        expression = std::make_unique<Expression>(Utilities::trim(prm.get("Critical stretch")), where, 0,
-                                                  std::vector<std::string>{"t"});
+        expression = std::make_unique<TimeFunction>(prm.get("Critical stretch"), where);
       }
 
       void
@@ -53,7 +52,7 @@ namespace perideal
       critical_stretch(const double t) const override
       {
         // The same t on every rank, so every rank stops alike.
-        const double sc = expression->value(Point<3>(t, 0, 0), t);
+        const double sc = (*expression)(t);
         AssertThrow(std::isfinite(sc) && sc > 0,
                     ExcMessage(where + ": '" + expression->text() + "' gives s_c = " + to_text(sc) + " at t = " +
                                to_text(t) + "; the critical stretch must be positive and finite at every time "
@@ -77,7 +76,7 @@ namespace perideal
 
     private:
       std::string                 where;
-      std::unique_ptr<Expression> expression;
+      std::unique_ptr<TimeFunction> expression;
 
       static std::string
       to_text(const double x)

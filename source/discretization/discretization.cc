@@ -339,6 +339,26 @@ namespace perideal
     }
   }
 
+  namespace
+  {
+    /// An initial damage region that holds every point breaks every bond, as
+    /// Region = All would (refused when read, InitialDamage): the same Error.
+    /// @p inside: 1 at the owned points in the region. Collective.
+    void
+    refuse_region_of_every_point(const InitialDamage &entry, const LinearAlgebra::distributed::Vector<double> &inside,
+                                 const types::global_dof_index n_global, const MPI_Comm comm)
+    {
+      double n_inside = 0;
+      for (unsigned int i = 0; i < inside.locally_owned_size(); ++i)
+        n_inside += inside.local_element(i);
+      n_inside = Utilities::MPI::sum(n_inside, comm);
+      AssertThrow(n_global == 0 || n_inside < n_global,
+                  ExcMessage("Discretization/Initial damage/" + entry.name + "/Region: '" + entry.region +
+                             "' holds all " + std::to_string(n_global) + " points of the body, so it would "
+                             "break every bond, as 'All' would; name a region of part of the body"));
+    }
+  } // namespace
+
   void
   Discretization::apply_initial_damage()
   {
@@ -357,6 +377,7 @@ namespace perideal
             for (unsigned int i = 0; i < n; ++i)
               inside.local_element(i) = in_region(entry.region, cloud.position(i), cloud.cell[i]) ? 1.0 : 0.0;
             inside.update_ghost_values();
+            refuse_region_of_every_point(entry, inside, cloud.n_global(), comm);
           }
         for (unsigned int i = 0; i < n; ++i)
           for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)

@@ -17,8 +17,16 @@
 // lambda_i exp(-t / tau_b), exactly. Energy: stored W_i = K theta^2/2 +
 // (alpha_i/2) sum_j omega [lambda_inf (e^d)^2 + lambda_i (e^d - e^b)^2] V_j;
 // dissipated by the dashpot at the rate (alpha_i lambda_i / tau_b) sum_j omega
-// (e^d - e^b)^2 V_j, integrated over the step by the trapezoid rule into the
-// history D (a dissipation field: the globals' material_dissipation).
+// (e^d - e^b)^2 V_j, integrated over the step exactly for the same e^d linear
+// in time into the history D (a dissipation field: the globals'
+// material_dissipation): with v = e^d - e^b, v_N its value at the step's
+// start, Delta = e^d_NP1 - e^d_N and a = dt / tau_b,
+//   (1/tau_b) int v^2 dt = v_N^2 (1 - decay^2)/2 + v_N Delta (1 - decay)^2 / a
+//                          + Delta^2 g(a) / a^2,
+//   g(a) = a - 2 (1 - e^-a) + (1 - e^-2a)/2   (a^3/3 - a^4/4 + ... for small a).
+// It stays bounded for tau_b far below dt (the dashpot relaxes v_N within the
+// step: v_N^2 / 2), where the trapezoid rule's dt/tau_b v_N^2 / 2 overflowed
+// (Relaxation time = 1e-300 gave a dissipation of 1.9e258).
 // Keys: 'Relaxation time' = Peridigm's "tau b", 'Viscous fraction' =
 // "lambda_i". The force on i needs j's half, whose e^b and e^d_N of bond j->i
 // live on j's owner: every bond keeps replicas, updated by the same formula
@@ -232,6 +240,33 @@ namespace perideal
       }
 
     private:
+      /// (1/tau) int v^2 dt over a step of e^d linear in time, with the
+      /// exact e^b (the header's formula): the weights of v_N^2, v_N Delta
+      /// and Delta^2, fixed in the step. dt = 0: all 0.
+      struct DissipationWeights
+      {
+        DissipationWeights(const double dt, const double tau)
+        {
+          if (!(dt > 0))
+            return;
+          const double a = dt / tau; // may be inf for tau far below dt: the limits hold
+          const double one_minus_decay = -std::expm1(-a);
+          c_nn = -0.5 * std::expm1(-2 * a);
+          c_nd = one_minus_decay * one_minus_decay / a;
+          // g(a)/a^2, written to give 0 at a = inf. The closed form cancels
+          // for small a (relative error eps/a^2): below a = 3e-3 its series
+          // (truncated at a relative a^4 / 10); either way about 1e-10.
+          c_dd = a < 3e-3 ? a * (1.0 / 3 - a * (0.25 - a * (7.0 / 60 - a / 24))) :
+                            (1 - (2 * one_minus_decay - c_nn) / a) / a;
+        }
+        double
+        integral(const double v_N, const double delta) const
+        {
+          return c_nn * v_N * v_N + c_nd * v_N * delta + c_dd * delta * delta;
+        }
+        double c_nn = 0, c_nd = 0, c_dd = 0;
+      };
+
       double              rho = 0, K = 0, G = 0, tau = 1, lambda_i = 0.5, alpha_T = 0;
       std::string         material_path;
 
@@ -291,11 +326,12 @@ namespace perideal
         const double decay  = dt > 0 ? std::exp(-dt / tau) : 1.0;
         const double beta   = dt > 0 ? 1 - tau * (1 - decay) / dt : 0.0;
         const double l_inf  = 1 - lambda_i;
+        const DissipationWeights weights(dt, tau);
         for (const unsigned int i : points)
           {
             const BondOrigin origin(state.cloud.X.data(), state.u, i);
             const double     ti = theta[i], ki = kappa[i] * ti, ai = alpha[i];
-            double           fx = 0, fy = 0, fz = 0, Wd = 0, rate_N = 0, rate = 0;
+            double           fx = 0, fy = 0, fz = 0, Wd = 0, dissipated = 0;
             for (std::size_t b = offsets[i]; b < offsets[i + 1]; ++b)
               {
                 const unsigned int j = neighbor[b];
@@ -324,15 +360,14 @@ namespace perideal
                 fy += k * y[1];
                 fz += k * y[2];
                 const double v_N = ed_N[b] - eb_N[b], v = edi - ebi;
-                rate_N += w * v_N * v_N * V[j];
-                rate += w * v * v * V[j];
+                dissipated += w * weights.integral(v_N, edi - ed_N[b]) * V[j];
                 if (energy)
                   Wd += w * (l_inf * edi * edi + lambda_i * v * v) * V[j];
               }
             f[3 * i] += fx;
             f[3 * i + 1] += fy;
             f[3 * i + 2] += fz;
-            Dv[i] = D_N[i] + 0.5 * dt * ai * lambda_i / tau * (rate_N + rate);
+            Dv[i] = D_N[i] + ai * lambda_i * dissipated;
             if (energy)
               state.energy[i] += 0.5 * K * ti * ti + 0.5 * ai * Wd;
           }

@@ -7,11 +7,15 @@
 #include <perideal/output/checkpoint.h>
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/mpi.templates.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <set>
+#include <sstream>
 #include <typeinfo>
 
 namespace perideal
@@ -29,6 +33,74 @@ namespace perideal
         f(name, entry.create()->point_fields());
       for (const auto &[name, entry] : Registry<DamageModel>::instance().all())
         f(name, entry.create()->point_fields());
+    }
+
+    /// A temperature field that strains nothing, or an expansion coefficient
+    /// that nothing heats: legal (the one may be for output, the other for
+    /// a later stage), but rarely meant. Deformable blocks only: continuum
+    /// and rigid blocks take no thermal strain.
+    void
+    warn_thermal(const std::vector<Block> &blocks, const bool has_temperature, std::vector<std::string> &warnings)
+    {
+      std::vector<std::string> expanding; // materials with alpha != 0
+      bool                     deformable = false;
+      for (const auto &block : blocks)
+        if (block.material && !block.continuum && !block.rigid)
+          {
+            deformable = true;
+            if (block.material->thermal_expansion_coefficient() != 0 &&
+                std::find(expanding.begin(), expanding.end(), block.material_name) == expanding.end())
+              expanding.push_back(block.material_name);
+          }
+      if (has_temperature && deformable && expanding.empty())
+        warnings.push_back("Temperature/Function is set, but the Thermal expansion coefficient of every material "
+                           "of a deformable block is 0: the temperature strains nothing");
+      if (!has_temperature)
+        for (const auto &name : expanding)
+          warnings.push_back("Materials/" + name + "/Thermal expansion coefficient is not 0, but Temperature/"
+                             "Function is empty: no thermal strain acts (the body stays at the reference "
+                             "temperature)");
+    }
+
+    /// Cells (points of a Text file cloud) that no block claims are left out
+    /// of the body: legal (a mesh may hold parts not simulated), but said,
+    /// with their material ids and counts, lest half a cloud vanish unnoticed.
+    void
+    warn_unclaimed_cells(const Discretization &discretization, const MPI_Comm comm, std::vector<std::string> &warnings)
+    {
+      std::map<unsigned int, double> unclaimed; // material id: cells
+      double                         all = 0;
+      for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            ++all;
+            if (discretization.block_of_cell(cell) < 0)
+              ++unclaimed[cell->material_id()];
+          }
+      // Every rank the same ids: the union, then the sums.
+      std::set<unsigned int> ids;
+      for (const auto &[id, count] : unclaimed)
+        ids.insert(id);
+      ids = Utilities::MPI::compute_set_union(ids, comm);
+      if (ids.empty())
+        return;
+      std::vector<double> counts;
+      for (const auto id : ids)
+        counts.push_back(unclaimed.count(id) ? unclaimed[id] : 0.0);
+      Utilities::MPI::sum(counts, comm, counts);
+      all = Utilities::MPI::sum(all, comm);
+      std::ostringstream text;
+      double             total = 0;
+      unsigned int       k     = 0;
+      for (const auto id : ids)
+        {
+          text << (k > 0 ? ", " : "") << "material id " << id << ": " << counts[k];
+          total += counts[k++];
+        }
+      std::ostringstream message;
+      message << total << " of " << all << " cells (points of a Text file cloud) belong to no block and are left "
+              << "out of the body (" << text.str() << "): no Blocks/*/Material ids or Region holds them";
+      warnings.push_back(message.str());
     }
   } // namespace
 
@@ -255,6 +327,8 @@ namespace perideal
       time_dependent_limits |= block.damage && block.damage->stretch_criterion() && block.damage->time_dependent();
     stretch_limits = BondStretchLimits(blocks.size(), cloud, bonds, comm);
     set_stretch_limits();
+    warn_thermal(blocks, temperature_function != nullptr, record.warnings);
+    warn_unclaimed_cells(discretization, comm, record.warnings);
     if (temperature_function)
       {
         temperature_change.reinit(cloud.scalar_partitioner);

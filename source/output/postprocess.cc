@@ -28,6 +28,48 @@ namespace perideal
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// A globals row's energies, and their balance, must be doubles: one that
+    /// overflowed would be written as inf or nan with exit 0. The row holds
+    /// global sums, the same on every rank, so every rank stops alike.
+    void
+    check_energies_finite(const std::vector<std::pair<std::string, double>> &row)
+    {
+      // Each energy column and what most likely drives it out of range.
+      static const std::vector<std::pair<std::string, std::string>> causes{
+        {"kinetic_energy", "a time step beyond the stable one, or an extreme initial velocity"},
+        {"strain_energy", "extreme material constants or prescribed displacements"},
+        {"external_work", "an extreme boundary condition or body force"},
+        {"contact_energy", "an extreme contact Spring constant"},
+        {"contact_dissipation", "an extreme contact Spring constant or Friction coefficient"},
+        {"material_dissipation", "a material constant out of range (e.g. Yield stress, Relaxation time)"},
+        {"released_energy", "extreme material constants"}};
+      double step = 0, time = 0, balance = 0;
+      for (const auto &[name, value] : row)
+        {
+          if (name == "step")
+            step = value;
+          else if (name == "time")
+            time = value;
+          for (const auto &[energy, cause] : causes)
+            if (name == energy)
+              {
+                AssertThrow(std::isfinite(value),
+                            ExcMessage("at step " + std::to_string(std::llround(step)) + " (t = " + sci(time, 6) +
+                                       ") the globals' " + name + " is " + sci(value) +
+                                       ": it has left the range of a double (1.8e308); likely cause: " + cause));
+                balance += name == "external_work" ? -value : value;
+              }
+        }
+      AssertThrow(std::isfinite(balance),
+                  ExcMessage("at step " + std::to_string(std::llround(step)) + " (t = " + sci(time, 6) +
+                             ") the energy balance (kinetic + strain + dissipated - external work) is " +
+                             sci(balance) + ": its energies, each finite, sum beyond the range of a double "
+                             "(1.8e308); likely cause: extreme material constants, loads or velocities"));
+    }
+  } // namespace
+
   Postprocess::Postprocess(Deck &deck, Discretization &discretization, ForceModel &model, ConditionSet &conditions,
                            MechanicalState &state, RunRecord &record, const MPI_Comm comm, ConditionalOStream &pcout,
                            TimerOutput &timer)
@@ -57,6 +99,13 @@ namespace perideal
     for (auto &v : output_variables(model_fields))
       if (output.wants(v.name))
         fields.push_back(std::move(v));
+    // A compute of a model's field (Von Mises stress) likewise: it would be a column of zeros.
+    for (const auto &compute : computes)
+      for (const auto &f : model_fields)
+        AssertThrow(compute.variable != f.output_name || model.field(f.name),
+                    ExcMessage("Computes/" + compute.name + "/Variable: '" + f.output_name + "' is a field of " +
+                               models_with_output(f.output_name) + ", and no block of this scene uses " +
+                               "such a model: remove the compute"));
   }
 
   ComputeData
@@ -174,6 +223,7 @@ namespace perideal
       check_finite(references, comm);
     }
     deck.integrator->add_globals(row);
+    check_energies_finite(row);
     return row;
   }
 

@@ -74,6 +74,7 @@ namespace perideal
         contact = std::make_unique<Contact>(deck.contact, model->blocks, discretization->cloud,
                                             discretization->bonds, comm, timer);
         contact->setup(state.mass_density, discretization->point_spacing());
+        record.warnings.insert(record.warnings.end(), contact->setup_warnings.begin(), contact->setup_warnings.end());
         model->attach_contact(contact.get());
       }
 

@@ -134,8 +134,14 @@ namespace perideal
     /// The point that first moved more than half a contact radius per step
     /// (BestPoint::describe()), or empty.
     std::string fastest_description;
+    /// What setup() found suspicious but legal, for the run's warnings.
+    std::vector<std::string> setup_warnings;
 
   private:
+    /// setup_warnings: a contact radius beyond the horizon of a block in contact.
+    void
+    warn_radius_beyond_horizon();
+
     /// The contact ghosts and the Verlet list at the current positions. Collective.
     void
     build(const VectorType &u);
