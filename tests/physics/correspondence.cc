@@ -214,8 +214,8 @@ main(int argc, char *argv[])
       report.below("  4. None, deeper than 2 horizons (F = I there): max |f| / (K a / horizon^2)", f_deep["None"],
                    1e-9);
       for (const std::string stab : {"Hourglass", "Silling"})
-        report.check("  4. " + stab + " / None, deeper than 2 horizons", f_deep[stab] / f_deep["None"],
-                     f_deep[stab] > 10 * f_deep["None"], "> 10");
+        report.above("  4. " + stab + " / None, deeper than 2 horizons (None's force is round-off)",
+                     f_deep[stab] / f_deep["None"], 10);
     }
 
     // 6. Damage.

@@ -572,6 +572,17 @@ namespace pdtest
         ++failures;
     }
 
+    /// "name > bound PASS" if @p value > @p bound, else with the value: for
+    /// ratios over a round-off quantity, whose digits are noise.
+    void
+    above(const std::string &name, const double value, const double bound)
+    {
+      const bool ok = value > bound;
+      line(name + " > " + short_number(bound) + (ok ? "  PASS" : " FAILED: " + short_number(value)));
+      if (!ok)
+        ++failures;
+    }
+
     /// A number printed for comparison only (10 significant digits).
     void
     value(const std::string &name, const double v)
