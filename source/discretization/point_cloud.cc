@@ -68,7 +68,7 @@ namespace perideal
           const unsigned int levels = levels_of ? levels_of(c) : 0;
           if (levels == 0)
             {
-              const Point<dim> x = c->center();
+              const Point<dim> x = cell_centroid(c); // as Peridigm places an element's point
               for (unsigned int d = 0; d < dim; ++d)
                 X.push_back(x[d]);
               volume.push_back(cell_volume(c));

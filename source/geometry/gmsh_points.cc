@@ -1,79 +1,15 @@
-// The 3D cells of a Gmsh mesh as peridynamic points (see gmsh_points.h).
-// Hexahedra, prisms and pyramids are integrated as trilinear hexahedra, the
-// prism and the pyramid as hexahedra with collapsed vertices (a prism's
-// triangle is a quadrilateral with two equal vertices, a pyramid's apex four):
-// the same solid, and the 2 x 2 x 2 Gauss rule integrates its volume and first
-// moments exactly (the Jacobian is of degree 2 in each reference direction,
-// times the position of degree 3), so non-planar faces are no approximation.
+// The 3D cells of a Gmsh mesh as peridynamic points (see gmsh_points.h),
+// each made a point by element_as_point() (element_point.h).
 
-#include <perideal/base/format.h>
+#include <perideal/geometry/element_point.h>
 #include <perideal/geometry/gmsh_file.h>
 #include <perideal/geometry/gmsh_points.h>
 
 #include <deal.II/base/exceptions.h>
-#include <deal.II/base/tensor.h>
-
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <limits>
 
 namespace perideal
 {
   using namespace dealii;
-
-  namespace
-  {
-    std::string
-    point_string(const Point<dim> &p)
-    {
-      return '(' + sci(p[0], 6) + ' ' + sci(p[1], 6) + ' ' + sci(p[2], 6) + ')';
-    }
-
-    // det[a, b, c] = a . (b x c)
-    double
-    triple(const Tensor<1, dim> &a, const Tensor<1, dim> &b, const Tensor<1, dim> &c)
-    {
-      return a * cross_product_3d(b, c);
-    }
-
-    struct Integral
-    {
-      double     volume = 0;
-      Point<dim> centroid;
-      double     min_jacobian = std::numeric_limits<double>::infinity(); // at the Gauss points
-    };
-
-    // The trilinear map of @p v (deal.II's lexicographic order), integrated
-    // exactly with 2 x 2 x 2 Gauss points.
-    Integral
-    integrate_hexahedron(const std::array<Point<dim>, 8> &v)
-    {
-      const double   g = 0.5 / std::sqrt(3.);
-      Integral       result;
-      Tensor<1, dim> moment;
-      for (unsigned int q = 0; q < 8; ++q)
-        {
-          std::array<double, 3> t;
-          for (unsigned int d = 0; d < dim; ++d)
-            t[d] = 0.5 + (((q >> d) & 1) ? g : -g);
-          Tensor<1, dim> x;
-          for (unsigned int c = 0; c < 8; ++c)
-            {
-              double N = 1;
-              for (unsigned int d = 0; d < dim; ++d)
-                N *= ((c >> d) & 1) ? t[d] : 1 - t[d];
-              x += N * v[c];
-            }
-          const double det    = hex_jacobian(v, t);
-          result.min_jacobian = std::min(result.min_jacobian, det);
-          result.volume += det / 8;
-          moment += det / 8 * x;
-        }
-      result.centroid = Point<dim>(moment / result.volume);
-      return result;
-    }
-  } // namespace
 
   std::vector<GmshCellPoint>
   gmsh_cells_as_points(const std::string &file, const double scale)
@@ -87,22 +23,22 @@ namespace perideal
     std::vector<GmshCellPoint> points;
     for (const auto &e : mesh.elements)
       {
-        std::string  shape;
-        unsigned int n_nodes = 0;
+        ElementShape shape;
         bool         second_order = false;
         switch (e.type)
           {
-            case 4: shape = "tetrahedron", n_nodes = 4; break;
-            case 5: shape = "hexahedron", n_nodes = 8; break;
-            case 6: shape = "prism", n_nodes = 6; break;
-            case 7: shape = "pyramid", n_nodes = 5; break;
-            case 11: case 29: case 30: case 31: shape = "tetrahedron", second_order = true; break;
-            case 12: case 17: case 92: case 93: shape = "hexahedron", second_order = true; break;
-            case 13: case 18: case 90: case 91: shape = "prism", second_order = true; break;
-            case 14: case 19: case 118: case 119: shape = "pyramid", second_order = true; break;
+            case 4: shape = ElementShape::tetrahedron; break;
+            case 5: shape = ElementShape::hexahedron; break;
+            case 6: shape = ElementShape::prism; break;
+            case 7: shape = ElementShape::pyramid; break;
+            case 11: case 29: case 30: case 31: shape = ElementShape::tetrahedron, second_order = true; break;
+            case 12: case 17: case 92: case 93: shape = ElementShape::hexahedron, second_order = true; break;
+            case 13: case 18: case 90: case 91: shape = ElementShape::prism, second_order = true; break;
+            case 14: case 19: case 118: case 119: shape = ElementShape::pyramid, second_order = true; break;
             default: continue; // surfaces, curves and points are no cells
           }
-        const std::string element = where + ": element " + std::to_string(e.tag) + " (a " + shape + ")";
+        const unsigned int n_nodes = n_corners(shape);
+        const std::string element = where + ": element " + std::to_string(e.tag) + " (a " + shape_name(shape) + ")";
         AssertThrow(!second_order,
                     ExcMessage(element + " is of higher order (Gmsh element type " + std::to_string(e.type) +
                                "): Cells as points reads first-order elements only (their corners make the "
@@ -122,72 +58,7 @@ namespace perideal
                                    ", which the file does not define"));
             p[i] = scale * it->second;
           }
-
-        // The Jacobian at the corners (of the three edges there, in Gmsh's
-        // order) and inside: of one sign, positive, in a valid cell.
-        Integral                  cell;
-        std::vector<double>       corner;
-        std::vector<unsigned int> corner_node; // its index in the element
-        switch (e.type)
-          {
-            case 4:
-              corner            = {triple(p[1] - p[0], p[2] - p[0], p[3] - p[0])};
-              corner_node       = {0};
-              cell.volume       = corner[0] / 6;
-              cell.centroid     = (p[0] + p[1] + p[2] + p[3]) / 4;
-              cell.min_jacobian = corner[0];
-              break;
-            case 5:
-              {
-                const std::array<Point<dim>, 8> v{{p[0], p[1], p[3], p[2], p[4], p[5], p[7], p[6]}};
-                corner_node = {0, 1, 3, 2, 4, 5, 7, 6};
-                for (unsigned int c = 0; c < 8; ++c)
-                  corner.push_back(hex_jacobian(v, {{double(c & 1), double((c >> 1) & 1), double(c >> 2)}}));
-                cell = integrate_hexahedron(v);
-                break;
-              }
-            case 6:
-              for (unsigned int c = 0; c < 6; ++c)
-                {
-                  const unsigned int b = c < 3 ? 0 : 3, i = c % 3; // c's triangle
-                  corner.push_back(triple(p[b + 1] - p[b], p[b + 2] - p[b], p[i + 3] - p[i]));
-                  corner_node.push_back(c);
-                }
-              cell = integrate_hexahedron({{p[0], p[1], p[2], p[2], p[3], p[4], p[5], p[5]}});
-              break;
-            case 7:
-              {
-                const std::array<Point<dim>, 8> v{{p[0], p[1], p[3], p[2], p[4], p[4], p[4], p[4]}};
-                corner_node = {0, 1, 3, 2};
-                for (unsigned int c = 0; c < 4; ++c) // the apex has no Jacobian
-                  corner.push_back(hex_jacobian(v, {{double(c & 1), double(c >> 1), 0.}}));
-                cell = integrate_hexahedron(v);
-                break;
-              }
-          }
-        // Where the cell is, for the message: the mean of its nodes (its
-        // centroid is not defined if its volume is 0).
-        Point<dim> low = p[0], high = p[0], mean;
-        for (const auto &x : p)
-          {
-            mean += x / n_nodes;
-            for (unsigned int d = 0; d < dim; ++d)
-              low[d] = std::min(low[d], x[d]), high[d] = std::max(high[d], x[d]);
-          }
-        const double size     = low.distance(high);
-        const double zero     = 1e-12 * size * size * size;
-        const auto   worst    = std::min_element(corner.begin(), corner.end());
-        const double jacobian = std::min(*worst, cell.min_jacobian);
-        AssertThrow(std::isfinite(cell.volume) && std::isfinite(size) && jacobian > zero,
-                    ExcMessage(element + " at " + point_string(mean) + " is flat, inverted or tangled: its volume is " +
-                               sci(cell.volume, 6) + " and its Jacobian " + sci(jacobian, 6) +
-                               (*worst <= cell.min_jacobian ?
-                                  " at its node " + std::to_string(e.nodes[corner_node[worst - corner.begin()]]) :
-                                  std::string(" inside")) +
-                               (scale != 1 ? " (after Scale)" : "") +
-                               ", and both must be positive (or its nodes are numbered against Gmsh's order): "
-                               "fix the mesh"));
-        points.push_back({e.tag, {cell.centroid, cell.volume, static_cast<unsigned int>(e.physical)}});
+        points.push_back({e.tag, element_as_point(shape, p, e.nodes, element, scale != 1, e.physical)});
       }
     AssertThrow(!points.empty(),
                 ExcMessage(where + " holds no 3D elements (tetrahedra, hexahedra, prisms or pyramids): "

@@ -4,7 +4,9 @@
 
 #include <deal.II/base/tensor.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace perideal
 {
@@ -40,5 +42,34 @@ namespace perideal
     for (unsigned int q = 0; q < 8; ++q)
       volume += hex_jacobian(v, {{g[q & 1], g[(q >> 1) & 1], g[q >> 2]}});
     return volume / 8;
+  }
+
+  bool
+  hex_centroid(const std::array<Point<dim>, 8> &v, Point<dim> &centroid)
+  {
+    const double   g[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+    double         volume = 0, smallest = std::numeric_limits<double>::infinity(), largest = -smallest;
+    Tensor<1, dim> moment; // relative to v[0], as the Jacobian
+    for (unsigned int q = 0; q < 8; ++q)
+      {
+        const std::array<double, 3> t{{g[q & 1], g[(q >> 1) & 1], g[q >> 2]}};
+        const double                det = hex_jacobian(v, t);
+        Tensor<1, dim>              x;
+        for (unsigned int c = 1; c < 8; ++c)
+          {
+            double N = 1;
+            for (unsigned int d = 0; d < dim; ++d)
+              N *= ((c >> d) & 1) ? t[d] : 1 - t[d];
+            x += N * (v[c] - v[0]);
+          }
+        volume += det;
+        moment += det * x;
+        smallest = std::min(smallest, det);
+        largest  = std::max(largest, det);
+      }
+    if (largest - smallest <= 1e-12 * std::abs(volume / 8))
+      return false;
+    centroid = v[0] + moment / volume;
+    return true;
   }
 } // namespace perideal

@@ -14,8 +14,8 @@ namespace perideal
 {
   using namespace dealii;
 
-  void
-  create_point_cubes(Triangulation<dim> &tria, const std::vector<CloudPoint> &points)
+  std::vector<unsigned int>
+  morton_order(const std::vector<CloudPoint> &points)
   {
     // The Morton key of each point in its bounding box (21 bits per axis).
     Point<dim> lo = points[0].x, hi = points[0].x;
@@ -37,10 +37,20 @@ namespace perideal
         }
       return key;
     };
-    std::vector<std::pair<std::uint64_t, unsigned int>> order(points.size());
+    std::vector<std::pair<std::uint64_t, unsigned int>> keyed(points.size());
     for (unsigned int i = 0; i < points.size(); ++i)
-      order[i] = {morton(points[i].x), i};
-    std::sort(order.begin(), order.end());
+      keyed[i] = {morton(points[i].x), i};
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<unsigned int> order(points.size());
+    for (unsigned int c = 0; c < order.size(); ++c)
+      order[c] = keyed[c].second;
+    return order;
+  }
+
+  void
+  create_point_cubes(Triangulation<dim> &tria, const std::vector<CloudPoint> &points)
+  {
+    const std::vector<unsigned int> order = morton_order(points);
 
     // Cubes whose corners coincide to the bit (a lattice of points) share
     // those vertices: the coarse mesh is then connected, as a mesh is.
@@ -64,7 +74,7 @@ namespace perideal
     std::vector<CellData<dim>> cells(points.size());
     for (unsigned int c = 0; c < order.size(); ++c)
       {
-        const CloudPoint &p = points[order[c].second];
+        const CloudPoint &p = points[order[c]];
         const double      h = 0.5 * std::cbrt(p.volume);
         for (unsigned int v = 0; v < 8; ++v)
           {

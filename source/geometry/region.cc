@@ -15,9 +15,9 @@ namespace perideal
   }
 
   void
-  Region::parse_parameters(ParameterHandler &prm, const std::string &path)
+  Region::parse_parameters(ParameterHandler &prm, const std::string &path, const SceneGeometry &geometry)
   {
     selector = Registry<RegionSelector>::instance().create(prm.get("Type"), path + "/Type");
-    selector->parse_parameters(prm, path);
+    selector->parse_parameters(prm, path, geometry);
   }
 } // namespace perideal

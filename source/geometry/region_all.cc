@@ -15,7 +15,7 @@ namespace perideal
       {}
 
       void
-      parse_parameters(ParameterHandler &, const std::string &) override
+      parse_parameters(ParameterHandler &, const std::string &, const SceneGeometry &) override
       {}
 
       bool

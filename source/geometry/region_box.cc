@@ -18,7 +18,7 @@ namespace perideal
       }
 
       void
-      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      parse_parameters(ParameterHandler &prm, const std::string &path, const SceneGeometry &) override
       {
         lower = get_point(prm, "Lower corner");
         upper = get_point(prm, "Upper corner");

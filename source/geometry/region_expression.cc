@@ -18,7 +18,7 @@ namespace perideal
       }
 
       void
-      parse_parameters(ParameterHandler &prm, const std::string &path) override
+      parse_parameters(ParameterHandler &prm, const std::string &path, const SceneGeometry &) override
       {
         expression = std::make_unique<Expression>(prm.get("Expression"), path + "/Expression");
       }

@@ -19,7 +19,7 @@ namespace perideal
       }
 
       void
-      parse_parameters(ParameterHandler &prm, const std::string &) override
+      parse_parameters(ParameterHandler &prm, const std::string &, const SceneGeometry &) override
       {
         group_id        = prm.get_integer("Physical group");
         group_dimension = prm.get_integer("Physical group dimension");

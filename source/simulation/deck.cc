@@ -350,7 +350,7 @@ namespace perideal
         prm.enter_subsection(name);
         auto region  = std::make_unique<Region>();
         region->name = name;
-        region->parse_parameters(prm, "Discretization/Regions/" + name);
+        region->parse_parameters(prm, "Discretization/Regions/" + name, *deck.scene.geometry);
         deck.regions[name] = std::move(region);
         prm.leave_subsection();
       }

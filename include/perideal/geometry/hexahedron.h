@@ -25,6 +25,27 @@ namespace perideal
   double
   hex_volume(const std::array<dealii::Point<dim>, 8> &v);
 
+  /// The volume-weighted centroid of the trilinear map (integrated exactly by
+  /// the 2-point Gauss rule in each direction), which Peridigm takes as an
+  /// Exodus hexahedron's point; false, @p centroid untouched, if the map is
+  /// affine (a parallelepiped: the Jacobian constant to 1e-12), whose
+  /// centroid is the vertices' mean.
+  bool
+  hex_centroid(const std::array<dealii::Point<dim>, 8> &v, dealii::Point<dim> &centroid);
+
+  /// The centroid of a deal.II hexahedral cell: hex_centroid(), or the mean
+  /// of the vertices (cell->center(), to the bit) of a parallelepiped.
+  template <typename CellIterator>
+  dealii::Point<dim>
+  cell_centroid(const CellIterator &cell)
+  {
+    std::array<dealii::Point<dim>, 8> v;
+    for (unsigned int k = 0; k < 8; ++k)
+      v[k] = cell->vertex(k);
+    dealii::Point<dim> centroid;
+    return hex_centroid(v, centroid) ? centroid : cell->center();
+  }
+
   /// hex_volume() of a deal.II hexahedral cell.
   template <typename CellIterator>
   double

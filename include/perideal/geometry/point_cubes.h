@@ -21,6 +21,11 @@ namespace perideal
     unsigned int       block;  // the cell's material id
   };
 
+  /// The order of a Morton curve through @p points: the coarse cell c that
+  /// create_point_cubes() makes is point morton_order(points)[c].
+  std::vector<unsigned int>
+  morton_order(const std::vector<CloudPoint> &points);
+
   /// Creates the cubes of @p points on @p tria in the order of a Morton
   /// curve through them, so that each rank's share is compact in space
   /// (p4est partitions the coarse cells in their order). Cubes whose corners

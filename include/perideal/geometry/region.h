@@ -2,11 +2,12 @@
 // A named region (Peridigm's node set): the points of a run that boundary
 // conditions and blocks act on, chosen once at set-up by a selector of
 // Registry<RegionSelector> named by its Type (All, Box, Expression, Physical
-// group: source/geometry/region_*.cc, one file each).
+// group, Node set, Side set, Element block: source/geometry/region_*.cc).
 
 #include <perideal/base/expression.h>
 #include <perideal/base/input.h>
 #include <perideal/base/registry.h>
+#include <perideal/geometry/scene.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -25,9 +26,10 @@ namespace perideal
   public:
     virtual ~RegionSelector() = default;
 
-    /// Reads the keys of the region's subsection; @p path names it in errors.
+    /// Reads the keys of the region's subsection; @p path names it in errors,
+    /// @p geometry is the scene's (its mesh sets).
     virtual void
-    parse_parameters(ParameterHandler &prm, const std::string &path) = 0;
+    parse_parameters(ParameterHandler &prm, const std::string &path, const SceneGeometry &geometry) = 0;
 
     /// Whether the point @p x (a cell centroid or node) of @p cell is inside.
     virtual bool
@@ -49,7 +51,7 @@ namespace perideal
     static void
     declare_parameters(ParameterHandler &prm);
     void
-    parse_parameters(ParameterHandler &prm, const std::string &path);
+    parse_parameters(ParameterHandler &prm, const std::string &path, const SceneGeometry &geometry);
 
     bool
     contains(const dealii::Point<dim>                               &x,

@@ -14,11 +14,21 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace perideal
 {
+  /// The sets of cells a mesh file names (an Exodus mesh's node sets, side
+  /// sets and element blocks), by name: each the sorted level-0 indices of
+  /// its coarse cells (Triangulation::coarse_cell_id_to_coarse_cell_index()).
+  struct MeshSets
+  {
+    std::map<std::string, std::vector<unsigned int>> node_sets, side_sets, element_blocks;
+  };
+
   /// One way to make the coarse mesh: a plugin registered with
   /// PERIDEAL_REGISTER(SceneGeometry, Class, "Name", "doc"), whose static
   /// declare_parameters declares its keys in subsection Discretization/Name.
@@ -47,6 +57,14 @@ namespace perideal
     lattice(Lattice &) const
     {
       return false;
+    }
+
+    /// The sets of cells the mesh file names, nullptr if it names none (a
+    /// generated geometry): Regions of Type Node set, Side set, Element block.
+    virtual const MeshSets *
+    mesh_sets() const
+    {
+      return nullptr;
     }
 
     /// The keys that set the number of cells, named by the size check.
