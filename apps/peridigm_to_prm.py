@@ -1060,15 +1060,24 @@ class Converter:
         if solvers:
             end = self.solver_section(self.child(top, solvers[0]))
             solver_types = [self.solver_type]
-            if len(solvers) > 1:
-                # Peridigm's later solvers: PeriDeal's Solver stages, each from where the one before ended.
+            stage_names = []
+            segments = self.time_step_segments
+            if len(solvers) > 1 or segments:
+                # Peridigm's later solvers (and the load steps of a QuasiStatic
+                # 'Time Steps' list after its first run of equal steps):
+                # PeriDeal's Solver stages, each from where the one before ended.
                 stages = self.prm.sub("Solver stages")
-                names = [n.lower() for n in solvers[1:]]
-                stages.set("Names", ", ".join(names), "Peridigm's %s, run after %s in this order."
-                           % (", ".join(solvers[1:]), solvers[0]))
-                for n, name in zip(solvers[1:], names):
+                stage_names += self.segment_stages(stages, solvers[0].lower(), segments)
+                for n in solvers[1:]:
+                    name = n.lower()
+                    stage_names.append(name)
                     end = self.solver_section(self.child(top, n), out=stages.sub(name), start=end)
                     solver_types.append(self.solver_type)
+                    stage_names += self.segment_stages(stages, name, self.time_step_segments)
+                stages.set("Names", ", ".join(stage_names), "Peridigm's %s, run after %s in this order%s."
+                           % (", ".join(solvers[1:]) or "load steps", solvers[0],
+                              " (a QuasiStatic list of Time Steps: one stage per run of equal steps)"
+                              if len(stage_names) > len(solvers) - 1 else ""))
             contact = top.children.get("Contact")
             others = sorted(set(t for t in solver_types if t and t != "Verlet"))
             if contact is not None and others:
@@ -2268,6 +2277,7 @@ class Converter:
         if not stage:
             out = self.prm.sub("Solver")
         self.solver_type = None
+        self.time_step_segments = []
         self.from_comment(out, s)
         self.child(s, "Verbose")
         self.solver_path_keys(s)
@@ -2355,10 +2365,15 @@ class Converter:
                 out.set("Initial time", t0)
             if t1 is not None:
                 out.set("Final time", t1)
-            n = self.number(k, "Number of Load Steps", required=True, integer=True)
+            steps_node = self.child(k, "Time Steps")
+            n = self.number(k, "Number of Load Steps", required=steps_node is None, integer=True)
             if n is not None:
                 out.set("Number of steps", n)
             imp = out.sub("Implicit")
+            if steps_node is not None and n is not None:
+                self.cannot(steps_node, "both Number of Load Steps and Time Steps: give one")
+            elif steps_node is not None:
+                t1 = self.time_steps(steps_node, out, imp, s, stage, t0, t1)
             v = self.number(k, "Absolute Tolerance")
             if v is not None:
                 imp.set("Absolute tolerance", v)
@@ -2412,6 +2427,63 @@ class Converter:
         self.leftovers(k)
         self.leftovers(s)
         return t1
+
+    def time_steps(self, node, out, imp, s, stage, t0, t1):
+        """Peridigm's QuasiStatic 'Time Steps' (the load-step times, from the
+        first to the last, Peridigm.cpp executeQuasiStatic): the first run of
+        equal steps is this solver (Initial time, Final time, Number of steps),
+        each further run a Solver stage with the same Implicit settings
+        (self.time_step_segments, made into stages by segment_stages). Returns
+        the end time."""
+        try:
+            times = [float(v) for v in node.value.replace(",", " ").split()]
+        except (AttributeError, ValueError):
+            times = []
+        if len(times) < 2 or any(not math.isfinite(t) for t in times) or \
+                any(b <= a for a, b in zip(times, times[1:])):
+            self.cannot(node, "Time Steps must be two or more increasing times, got '%s'"
+                        % (node.value.strip() if node.value else ""))
+            return t1
+        runs = []  # [start, end, steps] of equal steps
+        for a, b in zip(times, times[1:]):
+            if runs and abs((b - a) - (runs[-1][1] - runs[-1][0]) / runs[-1][2]) <= 1e-12 * max(abs(a), abs(b), b - a):
+                runs[-1][1] = b
+                runs[-1][2] += 1
+            else:
+                runs.append([a, b, 1])
+        start = float(t0) if t0 is not None else None
+        if stage and start is not None and abs(times[0] - start) > 1e-12 * max(1.0, abs(start)):
+            self.warn(node, "the first of the Time Steps, %s, is not where the solver before ended (%s): PeriDeal "
+                      "starts a stage there" % (fmt(times[0]), fmt(start)))
+        elif not stage:
+            out.set("Initial time", fmt(times[0]), "The first of Peridigm's Time Steps.")
+        if t1 is not None and abs(float(t1) - times[-1]) > 1e-12 * max(1.0, abs(times[-1])):
+            self.warn(s.children.get("Final Time"), "Final Time %s is not the last of the Time Steps (%s): Peridigm "
+                      "loads to the last of the Time Steps, and so does the converter" % (t1, fmt(times[-1])),
+                      path=s.path() + "/Final Time")
+        out.set("Final time", fmt(runs[0][1]))
+        out.set("Number of steps", str(runs[0][2]),
+                "Peridigm's Time Steps (%s):\n%d load steps in %d run%s of equal steps; this solver takes the first "
+                "(to %s)%s." % (node.value.strip(), len(times) - 1, len(runs), "s" if len(runs) > 1 else "",
+                                fmt(runs[0][1]), ",\nSolver stages the others" if len(runs) > 1 else ""))
+        self.time_step_segments = [(fmt(b), str(n), imp, s.name) for _, b, n in runs[1:]]
+        return fmt(times[-1])
+
+    def segment_stages(self, stages, name, segments):
+        """The Solver stages NAME_steps2, NAME_steps3, ... of a Time Steps
+        list's further runs of equal load steps; returns their names."""
+        import copy
+        names = []
+        for i, (end, n, imp, solver) in enumerate(segments, 2):
+            stage_name = "%s_steps%d" % (name, i)
+            st = stages.sub(stage_name)
+            st.comment("Peridigm's Time Steps of %s: run %d of equal load steps." % (solver, i))
+            st.set("Type", "QuasiStatic")
+            st.set("Final time", end)
+            st.set("Number of steps", n)
+            st.items.append(("sub", copy.deepcopy(imp)))
+            names.append(stage_name)
+        return names
 
     SOLVER_PATH_KEYS = {
         "Peridigm Preconditioner": "the preconditioner of Peridigm's matrix-free NOX solves (None, Full Tangent, "
