@@ -1054,6 +1054,7 @@ class Converter:
         self.blocks_section(self.child(top, "Blocks"))
         self.scale_hourglass()
         self.check_bonded_blocks(self.child(top, "Blocks"))
+        self.check_isolated_points(self.child(top, "Blocks"))
         self.conditions_section(self.child(top, "Boundary Conditions"))
         self.contact_section(self.child(top, "Contact"))
         self.computes_section(self.child(top, "Compute Class Parameters"))
@@ -1740,6 +1741,79 @@ class Converter:
             self.warn(node, "the blocks have different horizons (%s): pd_app's %s refuse blocks of different horizons "
                       "bonded to each other (and Critical energy blocks sharing bonds need one horizon): give the "
                       "blocks that touch one horizon" % (", ".join(sorted(horizons)), ", ".join(uneven)))
+
+    def check_isolated_points(self, node):
+        """Points with no neighbour within their block's horizon, where the
+        converter has the points (a Box, a Text File): Peridigm runs them (such
+        a point moves freely under its conditions), pd_app refuses them
+        outside contact: a comment and a warning with how many."""
+        blocks = {dn[0]: (h[0] if h else None) for _, dn, _, _, h in getattr(self, "peridigm_blocks", [])}
+        disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
+        horizon = {name: float(h if h is not None else disc_h) for name, h in blocks.items()
+                   if h is not None or disc_h is not None}
+        if node is None or not horizon:
+            return
+        points = []  # (x, y, z, block name)
+        if self.disc_type == "Box" and "block_1" in horizon:
+            d = self.prm.sub("Discretization").sub("Box")
+            get = {i[1]: i[2] for i in d.items if i[0] == "set"}
+            try:
+                lo = [float(v) for v in get["Lower corner"].split(",")]
+                hi = [float(v) for v in get["Upper corner"].split(",")]
+                n = [int(v) for v in get["Subdivisions"].split(",")]
+            except (KeyError, ValueError):
+                return
+            spacings = [(b - a) / k for a, b, k in zip(lo, hi, n) if k > 1]
+            total = n[0] * n[1] * n[2]
+            isolated = total if not spacings or horizon["block_1"] < min(spacings) * (1 - 1e-9) else 0
+            where = "every point (the spacing %s exceeds the horizon %s)" % (
+                fmt(min(spacings)) if spacings else "-", fmt(horizon["block_1"]))
+        elif self.disc_type == "Text file" and getattr(self, "point_file", None):
+            try:
+                with open_regular(self.point_file, "the point file") as f:
+                    for raw in f:
+                        t = raw.decode("utf-8", "replace").split("#")[0].split()
+                        if len(t) >= 5:
+                            points.append((float(t[0]), float(t[1]), float(t[2]), "block_%d" % int(float(t[3]))))
+            except (InputError, OSError, ValueError):
+                return
+            if not points or len(points) > 2000000:
+                return
+            cell = max(horizon.values())
+            grid = {}
+            for i, (x, y, z, _) in enumerate(points):
+                grid.setdefault((math.floor(x / cell), math.floor(y / cell), math.floor(z / cell)), []).append(i)
+            isolated, first = 0, None
+            for i, (x, y, z, b) in enumerate(points):
+                h = horizon.get(b)
+                if h is None:
+                    continue
+                cx, cy, cz = math.floor(x / cell), math.floor(y / cell), math.floor(z / cell)
+                found = False
+                for key in ((cx + a, cy + b2, cz + c) for a in (-1, 0, 1) for b2 in (-1, 0, 1) for c in (-1, 0, 1)):
+                    for j in grid.get(key, ()):
+                        if j != i and (points[j][0] - x) ** 2 + (points[j][1] - y) ** 2 + (points[j][2] - z) ** 2 \
+                                <= (h * (1 + 1e-9)) ** 2:
+                            found = True
+                            break
+                    if found:
+                        break
+                if not found:
+                    isolated += 1
+                    first = first or (x, y, z, b)
+            total = len(points)
+            where = "the first at (%s, %s, %s) in %s" % (fmt(first[0]), fmt(first[1]), fmt(first[2]), first[3]) \
+                if first else ""
+        else:
+            return
+        if not isolated:
+            return
+        self.prm.sub("Discretization").comment(
+            "TRAP: %d of the %d points have no neighbour within the horizon. Peridigm\n"
+            "runs them: such a point moves freely under its conditions. pd_app refuses\n"
+            "them outside contact (a horizon below the point spacing)." % (isolated, total))
+        self.warn(node, "%d of the %d points have no neighbour within the horizon (%s): Peridigm runs them (each "
+                  "moves freely under its conditions), pd_app refuses them outside contact" % (isolated, total, where))
 
     # Blocks -----------------------------------------------------------------
 
