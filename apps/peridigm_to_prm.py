@@ -2484,8 +2484,25 @@ class Converter:
             if t1 is not None:
                 out.set("Final time", t1)
             if dt is not None and t1 is not None:
-                steps = max(1, int(round((float(t1) - float(t0 or 0)) / float(dt))))
-                out.set("Number of steps", str(steps), "(Final Time - Initial Time) / Fixed dt.")
+                # Peridigm's count: floor((Final Time - Initial Time) / Fixed dt)
+                # steps of Fixed dt (Peridigm.cpp, executeImplicit).
+                span = float(t1) - float(t0 or 0)
+                steps = math.floor(span / float(dt))
+                end = float(t0 or 0) + steps * float(dt)
+                if steps >= 1 and abs(end - float(t1)) > 1e-12 * max(abs(span), abs(float(t1))):
+                    out.set("Final time", repr(end),
+                            "Peridigm's Final Time %s is not a whole number of Fixed dt %s: Peridigm takes\n"
+                            "floor(T/dt) = %d steps of dt and stops at %r." % (t1, dt, steps, end))
+                    self.warn(s.children.get("Final Time") or s, "Final Time %s is not a whole number of Fixed dt %s "
+                              "from %s: Peridigm's Implicit takes floor(T/dt) = %d steps of dt and ends at %r: written "
+                              "as Final time = %r and Number of steps = %d" % (t1, dt, fmt(float(t0 or 0)), steps, end,
+                                                                             end, steps), path=s.path() + "/Final Time")
+                    t1 = repr(end)
+                if steps < 1:
+                    self.cannot(s.children.get("Final Time") or s, "the run (%r) is shorter than Fixed dt %s: Peridigm "
+                                "takes no step" % (span, dt), path=s.path() + "/Final Time")
+                    steps = 1
+                out.set("Number of steps", str(steps), "floor((Final Time - Initial Time) / Fixed dt), Peridigm's count.")
             imp = out.sub("Implicit")
             for key, pkey in (("Beta", "Newmark beta"), ("Gamma", "Newmark gamma"),
                               ("Absolute Tolerance", "Absolute tolerance"), ("Relative Tolerance", "Tolerance")):
