@@ -91,13 +91,29 @@ class Node:
         return self.children is not None
 
     def add(self, child):
-        if child.name in self.children:
-            first = self.children[child.name]
-            where = re.sub(r"^Peridigm(/|$)", "", self.path())
-            raise DeckError(child.line, "'%s' given twice in '%s' (also line %d)" %
-                            (child.name, where or "the top level", first.line))
+        """child added under its name. A name given twice is Teuchos's rule:
+        a parameter's last value stands (the earlier one is replaced, where it
+        stood in the list), a list given twice is one list of both (a key in
+        both: the later one); the root's 'duplicates' records each
+        (earlier node, later node). A list and a value under one name, which
+        Teuchos refuses, is a DeckError."""
         child.parent = self
+        first = self.children.get(child.name)
+        if first is None:
+            self.children[child.name] = child
+            return child
+        if first.is_list() != child.is_list():
+            where = re.sub(r"^Peridigm(/|$)", "", self.path())
+            raise DeckError(child.line, "'%s' given twice in '%s', once as a list and once as a value (also "
+                            "line %d)" % (child.name, where or "the top level", first.line))
+        root = self
+        while root.parent is not None:
+            root = root.parent
+        root.__dict__.setdefault("duplicates", []).append((first, child))
+        if child.is_list():
+            return first  # its entries go into the first list
         self.children[child.name] = child
+        return child
 
     def path(self):
         parts = []
@@ -239,10 +255,9 @@ def parse_yaml(text):
             node = Node(key, number, _yaml_scalar(rest, number))
             parent.add(node)
         else:
-            node = Node(key, number)
-            parent.add(node)
+            node = parent.add(Node(key, number))
             stack.append((indent, node))
-            child_indent[id(node)] = None
+            child_indent.setdefault(id(node), None)
     return root
 
 
@@ -268,8 +283,7 @@ def parse_xml(text):
                 return
             if "name" not in attrs:
                 raise DeckError(line, "a <ParameterList> without a name")
-            node = Node(attrs["name"], line)
-            stack[-1].add(node)
+            node = stack[-1].add(Node(attrs["name"], line))
             stack.append(node)
         elif tag == "Parameter":
             if not stack:
@@ -419,6 +433,7 @@ def read_deck(path):
                                 "Materials, ...) belong under it")
             if only.is_list() and only.name == "Peridigm":
                 only.parent = None
+                only.duplicates = getattr(root, "duplicates", [])
                 return only
     if not root.children:
         raise DeckError(max(root.line, 1), "no section: the deck holds only comments")
@@ -653,6 +668,110 @@ def translate_expression(text, variables=("x", "y", "z", "t")):
     return env["value"]
 
 
+_EVAL_FUNCTIONS = {
+    "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin, "acos": math.acos, "atan": math.atan,
+    "atan2": math.atan2, "sinh": math.sinh, "cosh": math.cosh, "tanh": math.tanh, "exp": math.exp,
+    "sqrt": math.sqrt, "abs": abs, "pow": math.pow, "floor": math.floor, "ceil": math.ceil, "min": min,
+    "max": max, "log10": math.log10, "ln": math.log, "sign": lambda v: (v > 0) - (v < 0),
+}
+
+
+def evaluate_expression(text, values):
+    """The value of a muparser expression as translate_expression writes it
+    (numbers, the variables in VALUES, the functions of _FUNCTIONS but rnd,
+    + - * / ^, comparisons, && ||, ?:). Raises ExprError for what it cannot
+    evaluate (rnd, a math error)."""
+    tokens = _tokens(text)
+    pos = [0]
+
+    def peek():
+        return tokens[pos[0]] if pos[0] < len(tokens) else (None, None)
+
+    def take():
+        pos[0] += 1
+        return tokens[pos[0] - 1]
+
+    def expect(op):
+        if peek() != ("op", op):
+            raise ExprError("expected '%s'" % op)
+        take()
+
+    def ternary():
+        c = logical_or()
+        if peek() == ("op", "?"):
+            take()
+            a = ternary()
+            expect(":")
+            b = ternary()
+            return a if c != 0 else b
+        return c
+
+    def binary(level):
+        ops = (("||",), ("&&",), ("==", "!="), ("<", ">", "<=", ">="), ("+", "-"), ("*", "/"))
+        if level == len(ops):
+            return unary()
+        v = binary(level + 1)
+        while peek()[0] == "op" and peek()[1] in ops[level]:
+            op = take()[1]
+            w = binary(level + 1)
+            v = {"||": lambda: float(v != 0 or w != 0), "&&": lambda: float(v != 0 and w != 0),
+                 "==": lambda: float(v == w), "!=": lambda: float(v != w), "<": lambda: float(v < w),
+                 ">": lambda: float(v > w), "<=": lambda: float(v <= w), ">=": lambda: float(v >= w),
+                 "+": lambda: v + w, "-": lambda: v - w, "*": lambda: v * w, "/": lambda: v / w}[op]()
+        return v
+
+    def logical_or():
+        return binary(0)
+
+    def unary():
+        if peek() == ("op", "-"):
+            take()
+            return -unary()
+        if peek() == ("op", "+"):
+            take()
+            return unary()
+        return power()
+
+    def power():
+        v = primary()
+        if peek() == ("op", "^"):
+            take()
+            return v ** unary()
+        return v
+
+    def primary():
+        kind, tok = take() if pos[0] < len(tokens) else (None, None)
+        if kind == "num":
+            return float(tok)
+        if kind == "id":
+            if peek() == ("op", "("):
+                if tok not in _EVAL_FUNCTIONS:
+                    raise ExprError("'%s' cannot be evaluated here" % tok)
+                take()
+                args = [ternary()]
+                while peek() == ("op", ","):
+                    take()
+                    args.append(ternary())
+                expect(")")
+                return float(_EVAL_FUNCTIONS[tok](*args))
+            if tok in values:
+                return float(values[tok])
+            raise ExprError("unknown name '%s'" % tok)
+        if (kind, tok) == ("op", "("):
+            v = ternary()
+            expect(")")
+            return v
+        raise ExprError("unexpected '%s'" % tok)
+
+    try:
+        v = ternary()
+    except (ArithmeticError, ValueError, TypeError) as e:
+        raise ExprError(str(e))
+    if pos[0] != len(tokens):
+        raise ExprError("unexpected '%s'" % tokens[pos[0]][1])
+    return v
+
+
 # ------------------------------------------------------------- the conversion
 
 
@@ -676,38 +795,77 @@ def num(s):
     return s.strip()
 
 
-def cells_other_than_hexahedra(path):
-    """The 3D cells of the Gmsh mesh PATH (ASCII, format 2.2 or 4.1) that are
-    not hexahedra, as text ('200 tetrahedra'); '' if none, or if the file
-    cannot be read (pd_app then says why)."""
+def gmsh_volume_cells(path):
+    """(text, ids) of the Gmsh mesh PATH (ASCII, format 2.2 or 4.1): text names
+    its 3D cells that are not hexahedra ('200 tetrahedra', '' if none), ids is
+    the set of the physical groups of its 3D cells (pd_app's material ids: the
+    first physical tag, 0 for none). ('', None) if the file cannot be read
+    (pd_app then says why)."""
     names = {4: "tetrahedron", 6: "prism", 7: "pyramid", 11: "tetrahedron", 13: "prism", 14: "pyramid"}
+    volume_types = {4, 5, 6, 7, 11, 12, 13, 14, 17, 18, 19}
     plural = {"tetrahedron": "tetrahedra", "prism": "prisms", "pyramid": "pyramids"}
     counts = {}
+    ids = set()
     try:
         with open_regular(path, "--mesh") as f:
             lines = iter([line.decode("utf-8", "replace") for line in f])
         version = None
+        physical = {}  # format 4.1: volume entity tag -> its physical group
         for line in lines:
             if line.strip() == "$MeshFormat":
                 version = next(lines).split()[0]
+            elif line.strip() == "$Entities":
+                n = [int(v) for v in next(lines).split()[:4]]
+                for d in range(4):
+                    for _ in range(n[d]):
+                        t = next(lines).split()
+                        if d == 3:
+                            physical[int(t[0])] = int(t[8]) if int(t[7]) > 0 else 0
             elif line.strip() == "$Elements":
                 if version is not None and version.startswith("4"):
                     n_blocks = int(next(lines).split()[0])
                     for _ in range(n_blocks):
-                        _, _, kind, n = (int(v) for v in next(lines).split()[:4])
+                        dim, tag, kind, n = (int(v) for v in next(lines).split()[:4])
                         for _ in range(n):
                             next(lines)
                         if kind in names:
                             counts[names[kind]] = counts.get(names[kind], 0) + n
+                        if dim == 3 and kind in volume_types and n > 0:
+                            ids.add(physical.get(tag, 0))
                 else:
                     for _ in range(int(next(lines).split()[0])):
-                        kind = int(next(lines).split()[1])
+                        t = next(lines).split()
+                        kind = int(t[1])
                         if kind in names:
                             counts[names[kind]] = counts.get(names[kind], 0) + 1
+                        if kind in volume_types:
+                            ids.add(int(t[3]) if int(t[2]) > 0 else 0)
                 break
     except (InputError, OSError, ValueError, IndexError, StopIteration):
-        return ""
-    return " and ".join("%d %s" % (n, name if n == 1 else plural[name]) for name, n in sorted(counts.items()))
+        return "", None
+    text = " and ".join("%d %s" % (n, name if n == 1 else plural[name]) for name, n in sorted(counts.items()))
+    return text, ids
+
+
+def cells_other_than_hexahedra(path):
+    """The 3D cells of the Gmsh mesh PATH that are not hexahedra, as text
+    ('200 tetrahedra'); '' if none or unreadable."""
+    return gmsh_volume_cells(path)[0]
+
+
+def text_file_blocks(path):
+    """The block numbers of Peridigm's Text File PATH (x y z block volume per
+    line, '#' comments), or None if it cannot be read."""
+    ids = set()
+    try:
+        with open_regular(path, "the point file") as f:
+            for raw in f:
+                t = raw.decode("utf-8", "replace").split("#")[0].split()
+                if len(t) >= 5:
+                    ids.add(int(float(t[3])))
+    except (InputError, OSError, ValueError):
+        return None
+    return ids
 
 
 class Converter:
@@ -866,6 +1024,14 @@ class Converter:
                 top.children[c.name] = c
                 c.parent = top
         verbose = self.child(top, "Verbose")
+        for first, last in getattr(top, "duplicates", []):
+            if last.is_list():
+                self.warn(last, "given twice (lines %d and %d): Peridigm (Teuchos) makes one list of both, a key in "
+                          "both taking the later value; so does the converter" % (first.line, last.line))
+            else:
+                self.warn(last, "given twice (lines %d and %d): Peridigm (Teuchos) keeps the last value, '%s' of "
+                          "line %d (line %d said '%s'); so does the converter"
+                          % (first.line, last.line, last.value.strip(), last.line, first.line, first.value.strip()))
         for name in self.ESSENTIAL_SECTIONS:
             # Solver1, Solver2, ... stand for Solver.
             if name not in top.children and not (name == "Solver" and any(
@@ -888,27 +1054,46 @@ class Converter:
         self.blocks_section(self.child(top, "Blocks"))
         self.scale_hourglass()
         self.check_bonded_blocks(self.child(top, "Blocks"))
+        self.check_isolated_points(self.child(top, "Blocks"))
         self.conditions_section(self.child(top, "Boundary Conditions"))
         self.contact_section(self.child(top, "Contact"))
         self.computes_section(self.child(top, "Compute Class Parameters"))
         if solvers:
             end = self.solver_section(self.child(top, solvers[0]))
             solver_types = [self.solver_type]
-            if len(solvers) > 1:
-                # Peridigm's later solvers: PeriDeal's Solver stages, each from where the one before ended.
+            stage_names = []
+            segments = self.time_step_segments
+            if len(solvers) > 1 or segments:
+                # Peridigm's later solvers (and the load steps of a QuasiStatic
+                # 'Time Steps' list after its first run of equal steps):
+                # PeriDeal's Solver stages, each from where the one before ended.
                 stages = self.prm.sub("Solver stages")
-                names = [n.lower() for n in solvers[1:]]
-                stages.set("Names", ", ".join(names), "Peridigm's %s, run after %s in this order."
-                           % (", ".join(solvers[1:]), solvers[0]))
-                for n, name in zip(solvers[1:], names):
+                stage_names += self.segment_stages(stages, solvers[0].lower(), segments)
+                for n in solvers[1:]:
+                    name = n.lower()
+                    stage_names.append(name)
                     end = self.solver_section(self.child(top, n), out=stages.sub(name), start=end)
                     solver_types.append(self.solver_type)
+                    stage_names += self.segment_stages(stages, name, self.time_step_segments)
+                stages.set("Names", ", ".join(stage_names), "Peridigm's %s, run after %s in this order%s."
+                           % (", ".join(solvers[1:]) or "load steps", solvers[0],
+                              " (a QuasiStatic list of Time Steps: one stage per run of equal steps)"
+                              if len(stage_names) > len(solvers) - 1 else ""))
             contact = top.children.get("Contact")
             others = sorted(set(t for t in solver_types if t and t != "Verlet"))
             if contact is not None and others:
                 self.cannot(contact, "PeriDeal's contact acts in explicit runs only (Type = Verlet), "
                             "not with its %s solver" % others[0])
-        outputs = [n for n in top.children if re.fullmatch(r"Output_?\d*", n)]
+        # Peridigm makes an output of every top-level list whose name contains
+        # "Output" (Peridigm.cpp, initializeOutputManager: name.find("Output")):
+        # Output, Output1, Output_2, Output Data, Output History, ...
+        outputs = [n for n in top.children if "Output" in n]
+        for n in list(outputs):
+            if not top.children[n].is_list():
+                self.cannot(self.child(top, n), "Peridigm takes every top-level entry whose name contains 'Output' "
+                            "for an output list, and this one is a value: Peridigm refuses it ('is not a "
+                            "Teuchos::ParameterList sublist')")
+                outputs.remove(n)
         self.output_sections([self.child(top, n) for n in outputs])
         self.emit_regions()
         restart = self.child(top, "Restart")
@@ -1009,6 +1194,7 @@ class Converter:
                     self.warn(d.children.get("Input Mesh File"), "the point file '%s' is not found (neither "
                               "beside the deck nor from here)" % mesh)
                 self.input_files.append(("the deck's point file", mesh))
+                self.point_file = mesh
                 t.set("File", mesh)
         elif dtype is not None:
             self.cannot(d.children.get("Type"), "the discretization type '%s' has no PeriDeal equivalent" % dtype)
@@ -1101,13 +1287,61 @@ class Converter:
             s = bf.sub(c.name)
             self.from_comment(s, c)
             s.set("Type", "Rectangular plane")
-            s.set("Normal", ",".join(v or "0" for v in vals["Normal"]))
+            normal = ",".join(v or "0" for v in vals["Normal"])
+            bottom = ",".join(v or "0" for v in vals["Bottom_Unit_Vector"])
+            lengths = (vals["Bottom_Length"] or "0", vals["Side_Length"] or "0")
+            if None not in vals["Normal"] + vals["Bottom_Unit_Vector"] and None not in lengths:
+                exact = self.peridigm_rectangle(c, [float(v) for v in vals["Normal"]],
+                                                [float(v) for v in vals["Bottom_Unit_Vector"]],
+                                                float(vals["Bottom_Length"]), float(vals["Side_Length"]))
+                if exact is not None:
+                    bottom, lengths, comment = exact
+                    s.comment(comment)
+            s.set("Normal", normal)
             s.set("Lower left corner", ",".join(v or "0" for v in vals["Lower_Left_Corner"]))
-            s.set("Bottom unit vector", ",".join(v or "0" for v in vals["Bottom_Unit_Vector"]))
-            s.set("Bottom length", vals["Bottom_Length"] or "0")
-            s.set("Side length", vals["Side_Length"] or "0")
+            s.set("Bottom unit vector", bottom)
+            s.set("Bottom length", lengths[0])
+            s.set("Side length", lengths[1])
             names.append(c.name)
         bf.items.insert(0, ["set", "Names", ", ".join(names)])
+
+    def peridigm_rectangle(self, c, n, ub, b, a):
+        """Peridigm's Rectangular_Plane with the vectors as given (PdBondFilter:
+        the plane through the corner with normal n, and a crossing point x cut
+        when 0 <= (x - r0).ub <= b and 0 <= (x - r0).ua <= a, ua = ub x n, none
+        of them normalised) as PeriDeal's rectangle (unit vectors, the bottom
+        perpendicular to the normal): in the plane only ub's part p = ub -
+        (ub.n^) n^ counts, and ua = p x n, so the region is the rectangle along
+        p / |p| of length b / |p| and side a / (|p| |n|). None (nothing to
+        change) when the vectors are unit and perpendicular to 1e-12; else
+        (bottom unit vector, (bottom length, side length), comment)."""
+        nn = math.sqrt(sum(x * x for x in n))
+        if nn == 0:
+            return None  # pd_app says why
+        nh = [x / nn for x in n]
+        d = sum(x * y for x, y in zip(ub, nh))
+        p = [x - d * y for x, y in zip(ub, nh)]
+        pn = math.sqrt(sum(x * x for x in p))
+        if abs(nn - 1) <= 1e-12 and abs(pn - 1) <= 1e-12 and abs(d) <= 1e-12:
+            return None
+        if pn <= 1e-12 * math.sqrt(sum(x * x for x in ub)):
+            self.cannot(c, "Bottom_Unit_Vector is along Normal: Peridigm's filter then cuts every bond through the "
+                        "whole plane, PeriDeal's rectangles are finite", path=c.path() + "/Bottom_Unit_Vector_X")
+            return None
+        bottom = [x / pn for x in p]
+        lengths = (fmt(b / pn), fmt(a / (pn * nn)))
+        text = ",".join(fmt(x) for x in bottom)
+        self.warn(c, "Normal (length %.6g) and Bottom_Unit_Vector (length %.6g, at %.6g degrees from the plane) are not "
+                  "unit and perpendicular: Peridigm uses them as given, which cuts the rectangle along Bottom_Unit_Vector's "
+                  "part in the plane, Bottom_Length / %.6g long and Side_Length / %.6g wide: written as Bottom unit "
+                  "vector = %s, Bottom length = %s, Side length = %s (the bonds Peridigm cuts)"
+                  % (nn, math.sqrt(sum(x * x for x in ub)), math.degrees(math.asin(min(1.0, abs(d) / math.sqrt(
+                      sum(x * x for x in ub))))), pn, pn * nn, text, lengths[0], lengths[1]))
+        comment = ("Peridigm uses Normal and Bottom_Unit_Vector as given (not unit or not\n"
+                   "perpendicular here): its rectangle runs along Bottom_Unit_Vector's part p in\n"
+                   "the plane, |p| = %s, Bottom_Length / |p| long and Side_Length /\n"
+                   "(|p| |Normal|) wide, |Normal| = %s: the same rectangle in unit vectors." % (fmt(pn), fmt(nn)))
+        return text, lengths, comment
 
     # Materials --------------------------------------------------------------
 
@@ -1211,20 +1445,101 @@ class Converter:
                     s.set("Hourglass coefficient", hg)  # scaled by scale_hourglass() once the horizons are known
                     self.hourglass[c.name] = (hg, c.children["Hourglass Coefficient"], s)
                 if model == "Elastic Correspondence":
-                    s.set("Strain measure", "Green-Lagrange", "Peridigm's Elastic Correspondence: Green-Lagrange "
-                          "strain.")
+                    s.set("Strain measure", "Green-Lagrange",
+                          "TRAP: Peridigm 1.5's Elastic Correspondence is hypoelastic (the unrotated\n"
+                          "Cauchy stress integrated from the unrotated rate of deformation, as its\n"
+                          "plastic correspondence models); PeriDeal's Elastic correspondence is\n"
+                          "hyperelastic (Green-Lagrange, St. Venant-Kirchhoff) or corotational small\n"
+                          "strain. The two agree at small strains only (stresses about 2e-3 apart\n"
+                          "at 0.1% strain). PeriDeal's hypoelastic correspondence law is Elastic\n"
+                          "plastic correspondence's: with a Yield stress above every stress reached\n"
+                          "it is Peridigm's Elastic Correspondence (doc/peridigm.md).")
+                    self.warn(c.children["Material Model"], "Peridigm 1.5's Elastic Correspondence is hypoelastic "
+                              "(unrotated Cauchy stress rate), written as PeriDeal's Elastic correspondence with "
+                              "Strain measure = Green-Lagrange (hyperelastic): the same at small strains only; "
+                              "PeriDeal's hypoelastic law is Elastic plastic correspondence's (with a Yield stress "
+                              "no stress reaches it is Peridigm's Elastic Correspondence)")
             if self.MODELS[model] == "Elastic plastic correspondence":
                 s.set("Yield stress measure", "Cauchy",
                       "Peridigm yields on the von Mises stress of the Cauchy stress; PeriDeal's\n"
                       "default (Kirchhoff) yields on J times it (doc/models.md).")
+                self.warn(c.children["Material Model"], "written with Yield stress measure = Cauchy: Peridigm yields "
+                          "on the Cauchy von Mises stress, PeriDeal's default (Kirchhoff) on J times it")
+            if model in ("Elastic Plastic", "Elastic Plastic Hardening"):
+                s.comment("TRAP: Peridigm's yield constant is the continuum family's, 25 Y^2 / (8 pi\n"
+                          "delta^5); PeriDeal's is the point's own, 5 Y^2 / (2 m_i): the same inside\n"
+                          "a full family, near a surface PeriDeal yields at von Mises stress Y\n"
+                          "(doc/inelastic.md).")
+                self.warn(c.children["Material Model"], "Peridigm's yield constant is the continuum family's "
+                          "(25 Y^2 / (8 pi delta^5)), PeriDeal's the point's own (5 Y^2 / (2 m_i)): the same inside a "
+                          "full family, different near surfaces (doc/inelastic.md)")
             if model == "Linear LPS Partial Volume":
                 self.warn(c.children["Material Model"], "PeriDeal's LPS is the ordinary (not linearized) "
                           "model and its partial volumes come from the cells' geometry "
                           "(Discretization/Partial volumes = true): small deformations only agree")
                 self.prm.sub("Discretization").set("Partial volumes", "true")
+            if "Correspondence" not in model and "Hourglass Coefficient" in c.children:
+                self.child(c, "Hourglass Coefficient")
+                self.warn(c.children["Hourglass Coefficient"], "ignored: Peridigm's '%s' has no hourglass force and "
+                          "does not read the key, and neither does the converter" % model)
+            self.influence_function(c, s, model)
+            self.flaw(c, model)
             self.leftovers(c)
             names.append(c.name)
         out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+
+    # Peridigm's predefined influence functions of zeta = |xi| and the horizon
+    # (Peridigm_InfluenceFunction.hpp) as PeriDeal's Influence function of
+    # r = |xi| / horizon.
+    INFLUENCE = {
+        "One": "1",
+        "Parabolic Decay": "(r<0.5) ? 1 : (-4*r*r+4*r)",
+        "Gaussian": "exp(-r*r)",
+    }
+
+    def influence_function(self, c, s, model):
+        """Peridigm's 'Influence Function' as LPS's Influence function; the
+        other PeriDeal models take omega = 1 only."""
+        node = self.child(c, "Influence Function")
+        if node is None:
+            return
+        if node.is_list():
+            self.cannot(node, "a value was expected, not a list")
+            return
+        name = node.value.strip()
+        expr = self.INFLUENCE.get(name)
+        if expr is None:
+            self.cannot(node, "the user-defined influence function '%s' (a function of zeta and the horizon): "
+                        "PeriDeal's Influence function is a muparser expression in r = |xi|/horizon; write it "
+                        "there by hand (Peridigm's predefined ones, %s, are converted)"
+                        % (name, ", ".join(self.INFLUENCE)))
+            return
+        if self.MODELS[model] == "LPS":
+            s.set("Influence function", expr, "Peridigm's Influence Function '%s' (Peridigm_InfluenceFunction.hpp), "
+                  "in r = |xi|/horizon." % name)
+        elif expr != "1":
+            self.cannot(node, "PeriDeal's %s weighs every bond by omega = 1; only its LPS takes an Influence "
+                        "function" % self.MODELS[model])
+
+    FLAW_KEYS = ("Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z", "Flaw Size",
+                 "Flaw Magnitude")
+
+    def flaw(self, c, model):
+        """Peridigm's material flaw (a yield stress lowered around a point,
+        Y (1 - M exp(-|x - x_f|^2 / s^2)), in its plastic correspondence
+        models): nothing to convert when it is off ('Enable Flaw' false or
+        absent: Peridigm reads none of its keys); PeriDeal has no yield stress
+        that varies in space, so an enabled flaw is refused."""
+        keys = [k for k in self.FLAW_KEYS if k in c.children]
+        if not keys:
+            return
+        enabled = self.boolean(c, "Enable Flaw") if "Enable Flaw" in c.children else False
+        for k in keys:
+            self.child(c, k)
+        if enabled:
+            self.cannot(c.children["Enable Flaw"], "PeriDeal's yield stress is one number per material: Peridigm's "
+                        "flaw (the yield stress lowered around Flaw Location by Flaw Magnitude over Flaw Size) has "
+                        "no counterpart")
 
     # Damage models ----------------------------------------------------------
 
@@ -1294,6 +1609,13 @@ class Converter:
             self.leftovers(c)
             names.append(c.name)
         out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(names)])
+        if names:
+            out.comment("TRAP: Peridigm's damage of a point is the fraction of its broken bonds by\n"
+                        "count, PeriDeal's by neighbour volume: the same on cells of one volume\n"
+                        "(Box, Cylinder shell, a regular mesh), different on unequal cells.")
+            self.warn(m, "Peridigm counts a point's damage by broken bonds, PeriDeal by their neighbours' volume: the "
+                      "same on cells of one volume, different on unequal cells (the bonds broken are the same, "
+                      "the Damage field is not)")
 
     def critical_energy(self, c, s):
         """Peridigm's Critical Energy (DLR's EnergyReleaseDamageModel): its
@@ -1420,6 +1742,79 @@ class Converter:
                       "bonded to each other (and Critical energy blocks sharing bonds need one horizon): give the "
                       "blocks that touch one horizon" % (", ".join(sorted(horizons)), ", ".join(uneven)))
 
+    def check_isolated_points(self, node):
+        """Points with no neighbour within their block's horizon, where the
+        converter has the points (a Box, a Text File): Peridigm runs them (such
+        a point moves freely under its conditions), pd_app refuses them
+        outside contact: a comment and a warning with how many."""
+        blocks = {dn[0]: (h[0] if h else None) for _, dn, _, _, h in getattr(self, "peridigm_blocks", [])}
+        disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
+        horizon = {name: float(h if h is not None else disc_h) for name, h in blocks.items()
+                   if h is not None or disc_h is not None}
+        if node is None or not horizon:
+            return
+        points = []  # (x, y, z, block name)
+        if self.disc_type == "Box" and "block_1" in horizon:
+            d = self.prm.sub("Discretization").sub("Box")
+            get = {i[1]: i[2] for i in d.items if i[0] == "set"}
+            try:
+                lo = [float(v) for v in get["Lower corner"].split(",")]
+                hi = [float(v) for v in get["Upper corner"].split(",")]
+                n = [int(v) for v in get["Subdivisions"].split(",")]
+            except (KeyError, ValueError):
+                return
+            spacings = [(b - a) / k for a, b, k in zip(lo, hi, n) if k > 1]
+            total = n[0] * n[1] * n[2]
+            isolated = total if not spacings or horizon["block_1"] < min(spacings) * (1 - 1e-9) else 0
+            where = "every point (the spacing %s exceeds the horizon %s)" % (
+                fmt(min(spacings)) if spacings else "-", fmt(horizon["block_1"]))
+        elif self.disc_type == "Text file" and getattr(self, "point_file", None):
+            try:
+                with open_regular(self.point_file, "the point file") as f:
+                    for raw in f:
+                        t = raw.decode("utf-8", "replace").split("#")[0].split()
+                        if len(t) >= 5:
+                            points.append((float(t[0]), float(t[1]), float(t[2]), "block_%d" % int(float(t[3]))))
+            except (InputError, OSError, ValueError):
+                return
+            if not points or len(points) > 2000000:
+                return
+            cell = max(horizon.values())
+            grid = {}
+            for i, (x, y, z, _) in enumerate(points):
+                grid.setdefault((math.floor(x / cell), math.floor(y / cell), math.floor(z / cell)), []).append(i)
+            isolated, first = 0, None
+            for i, (x, y, z, b) in enumerate(points):
+                h = horizon.get(b)
+                if h is None:
+                    continue
+                cx, cy, cz = math.floor(x / cell), math.floor(y / cell), math.floor(z / cell)
+                found = False
+                for key in ((cx + a, cy + b2, cz + c) for a in (-1, 0, 1) for b2 in (-1, 0, 1) for c in (-1, 0, 1)):
+                    for j in grid.get(key, ()):
+                        if j != i and (points[j][0] - x) ** 2 + (points[j][1] - y) ** 2 + (points[j][2] - z) ** 2 \
+                                <= (h * (1 + 1e-9)) ** 2:
+                            found = True
+                            break
+                    if found:
+                        break
+                if not found:
+                    isolated += 1
+                    first = first or (x, y, z, b)
+            total = len(points)
+            where = "the first at (%s, %s, %s) in %s" % (fmt(first[0]), fmt(first[1]), fmt(first[2]), first[3]) \
+                if first else ""
+        else:
+            return
+        if not isolated:
+            return
+        self.prm.sub("Discretization").comment(
+            "TRAP: %d of the %d points have no neighbour within the horizon. Peridigm\n"
+            "runs them: such a point moves freely under its conditions. pd_app refuses\n"
+            "them outside contact (a horizon below the point spacing)." % (isolated, total))
+        self.warn(node, "%d of the %d points have no neighbour within the horizon (%s): Peridigm runs them (each "
+                  "moves freely under its conditions), pd_app refuses them outside contact" % (isolated, total, where))
+
     # Blocks -----------------------------------------------------------------
 
     def blocks_section(self, b):
@@ -1448,16 +1843,26 @@ class Converter:
                 self.cannot(c.children["Damage Model"], "no damage model '%s' in Damage Models" % damage)
             self.leftovers(c)
             entries.append((c, (names or "").split(), material, damage, h))
-        # PeriDeal block names: the discretization's block name when an entry
-        # has one, else the entry's name.
-        pnames = []
+        entries = self.expand_default(b, entries)
+        # One PeriDeal block per mesh block (named as Peridigm names it,
+        # block_N): an entry that lists several mesh blocks ('block_1
+        # block_2') gives each its own block with the entry's material, damage
+        # model and horizon. Peridigm keeps its mesh blocks apart inside an
+        # entry (general contact acts between them, and Interface Aware sees
+        # their interface), which one PeriDeal block of all would not.
+        blocks = []  # (entry node, mesh block name, material, damage, horizon)
+        seen = {}
         for c, dnames, material, damage, h in entries:
-            pname = dnames[0] if len(dnames) == 1 else c.name
-            pnames.append(pname)
             for dn in dnames:
-                self.block_map[dn] = pname
+                if dn in seen:
+                    self.cannot(c.children.get("Block Names") or c, "the mesh block '%s' is given a material twice "
+                                "(also in '%s')" % (dn, seen[dn].path()))
+                    continue
+                seen[dn] = c
+                blocks.append((c, dn, material, damage, h))
+                self.block_map[dn] = dn
         # One horizon for all: Discretization/Horizon.
-        block_h = [e[4][0] if e[4] else None for e in entries]
+        block_h = [e[4][0] if e[4] else None for e in blocks]
         disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
         common = None
         if disc_h is None and block_h and all(x is not None for x in block_h) and len(set(block_h)) == 1:
@@ -1469,41 +1874,94 @@ class Converter:
             else:
                 d.set("Horizon", common, "Peridigm gives the horizon per block (Blocks/*/Horizon); every block\n"
                       "has %s." % common)
-        scene_blocks = len(entries)
-        for (c, dnames, material, damage, h), pname in zip(entries, pnames):
-            s = out.sub(pname)
+        no_horizon = set()
+        for c, dn, material, damage, h in blocks:
+            s = out.sub(dn)
             self.from_comment(s, c)
+            group = c.__dict__.get("mesh_blocks", [])
+            if len(group) > 1:
+                s.comment("One of the mesh blocks %s of Peridigm's '%s':\n"
+                          "each is a PeriDeal block of its own, as in Peridigm (contact acts\n"
+                          "between them)." % (" ".join(group), c.name))
+            if c.__dict__.get("default"):
+                s.comment("Peridigm's 'default': a mesh block no other entry of Blocks names.")
             if material is not None:
                 s.set("Material", material)
             if damage is not None:
                 s.set("Damage model", damage)
             if h is not None and common is None and (disc_h is None or h[0] != disc_h):
                 s.set("Horizon", h[0])
-            if h is None and disc_h is None:
+            if h is None and disc_h is None and c not in no_horizon:
+                no_horizon.add(c)
                 self.cannot(c, "no Horizon for this block (and none in Discretization)", path=c.path() + "/Horizon")
             if self.disc_type in ("Box", "Cylinder shell"):
-                if dnames != ["block_1"] or scene_blocks != 1:
+                if dn != "block_1":
                     self.cannot(c.children.get("Block Names") or c,
-                                "PdQuickGrid makes one block, block_1, of every point: '%s'"
-                                % " ".join(dnames))
+                                "PdQuickGrid makes one block, block_1, of every point: '%s'" % dn)
             elif self.disc_type in ("Gmsh", "Text file"):
-                ids = []
-                for dn in dnames:
-                    m = re.fullmatch(r"block_(\d+)", dn)
-                    if not m:
-                        self.cannot(c.children.get("Block Names"), "the block '%s' is not named block_N, so its "
-                                    "%s is unknown" % (dn, "Gmsh physical group" if self.disc_type == "Gmsh"
-                                                       else "block number in the text file"))
-                    else:
-                        ids.append(m.group(1))
-                        self.block_ids[dn] = m.group(1)
-                if ids:
-                    s.set("Material ids", ", ".join(ids), ("Exodus %s: Gmsh volume physical group%s %s."
-                                                           if self.disc_type == "Gmsh" else
-                                                           "%s: block%s %s of the text file.")
-                          % (" ".join(dnames), "s" if len(ids) > 1 else "", ", ".join(ids)))
-        out.items.insert(len([i for i in out.items if i[0] == "comment"]), ["set", "Names", ", ".join(pnames)])
-        self.peridigm_blocks = entries
+                m = re.fullmatch(r"block_(\d+)", dn)
+                if not m:
+                    self.cannot(c.children.get("Block Names"), "the block '%s' is not named block_N, so its "
+                                "%s is unknown" % (dn, "Gmsh physical group" if self.disc_type == "Gmsh"
+                                                   else "block number in the text file"))
+                else:
+                    self.block_ids[dn] = m.group(1)
+                    s.set("Material ids", m.group(1), ("Exodus %s: Gmsh volume physical group %s."
+                                                       if self.disc_type == "Gmsh" else
+                                                       "%s: block %s of the text file.") % (dn, m.group(1)))
+        out.items.insert(len([i for i in out.items if i[0] == "comment"]),
+                         ["set", "Names", ", ".join(dn for _, dn, _, _, _ in blocks)])
+        self.peridigm_blocks = [(c, [dn], material, damage, h) for c, dn, material, damage, h in blocks]
+
+    def mesh_block_names(self):
+        """The names (block_N) of the blocks of the discretization, or None
+        where the converter cannot list them."""
+        if self.disc_type in ("Box", "Cylinder shell"):
+            return ["block_1"]
+        ids = None
+        if self.disc_type == "Gmsh" and self.args.mesh:
+            ids = gmsh_volume_cells(self.args.mesh)[1]
+        elif self.disc_type == "Text file" and getattr(self, "point_file", None):
+            ids = text_file_blocks(self.point_file)
+        if ids is None:
+            return None
+        return ["block_%d" % i for i in sorted(ids)]
+
+    def expand_default(self, b, entries):
+        """Peridigm's Block Names 'default' stands for every mesh block no
+        other entry names (Peridigm's DefaultBlocks regression test): replaced
+        by those blocks, from the mesh."""
+        for c, dnames, _, _, _ in entries:
+            c.mesh_blocks = list(dnames)
+        defaults = [e for e in entries if "default" in e[1]]
+        if not defaults:
+            return entries
+        if len(defaults) > 1:
+            self.cannot(defaults[1][0].children.get("Block Names"), "'default' in two entries ('%s' and '%s')"
+                        % (defaults[0][0].name, defaults[1][0].name))
+            return entries
+        c = defaults[0][0]
+        named = set(dn for e in entries for dn in e[1] if dn != "default")
+        mesh = self.mesh_block_names()
+        if mesh is None:
+            self.cannot(c.children.get("Block Names"), "'default' (every mesh block no other entry names): the "
+                        "converter lists a mesh's blocks from --mesh or the Text File only; name the blocks "
+                        "(block_1 block_2 ...)")
+            return [e for e in entries if e[0] is not c]
+        rest = [n for n in mesh if n not in named]
+        if not rest:
+            self.warn(c.children.get("Block Names"), "'default' names no block: every mesh block (%s) is named by "
+                      "another entry" % " ".join(mesh))
+        c.default = True
+        out = []
+        for e in entries:
+            if e[0] is c:
+                names = [n for n in e[1] if n != "default"] + rest
+                c.mesh_blocks = names
+                out.append((e[0], names, e[2], e[3], e[4]))
+            else:
+                out.append(e)
+        return out
 
     # Regions (node sets) -----------------------------------------------------
 
@@ -1643,6 +2101,8 @@ class Converter:
             s.set("Component", coord.lower(), "Peridigm's Coordinate.")
             if expr.replace(" ", "") != value_node.value.strip().replace(" ", ""):
                 s.comment("Peridigm: %s" % value_node.value.strip())
+            if btype == "Prescribed Displacement":
+                expr = self.displacement_from_start(expr, value_node, s)
             s.set("Value", expr)
             if "rnd(" in expr:
                 uses_rnd = True
@@ -1654,6 +2114,40 @@ class Converter:
         if not names:
             self.prm.items = [i for i in self.prm.items if not (i[0] == "sub" and i[1] is out)]
         return uses_rnd
+
+    def start_time(self):
+        """The first solver's Initial Time (0 if not given), read without
+        marking it (the solver section converts it)."""
+        solvers = sorted([n for n in self.root.children if re.fullmatch(r"Solver\d*", n)],
+                         key=lambda n: int(n[6:] or 0))
+        if not solvers or not self.root.children[solvers[0]].is_list():
+            return 0.0
+        t0 = self.root.children[solvers[0]].children.get("Initial Time")
+        return float(t0.value) if t0 is not None and not t0.is_list() and is_number(t0.value) else 0.0
+
+    SAMPLE_POINTS = ((0.0, 0.0, 0.0), (1.0, 2.0, 3.0), (-0.7, 0.3, 1.9), (1e-3, -2e-3, 5e-4), (25.0, -40.0, 13.0))
+
+    def displacement_from_start(self, expr, node, s):
+        """Peridigm applies a Prescribed Displacement f as increments f(t_n+1)
+        - f(t_n) from the displacement at the start (its DirichletIncrementBC,
+        none at t = t0), so u(t) = u(t0) + f(t) - f(t0); PeriDeal sets u =
+        f(t). Where f(t0) is not 0 the value becomes f(t) - f(t0)."""
+        t0 = self.start_time()
+        try:
+            zero = all(evaluate_expression(expr, {"x": x, "y": y, "z": z, "t": t0}) == 0
+                       for x, y, z in self.SAMPLE_POINTS)
+        except ExprError:
+            zero = False  # rnd(), or a value the samples cannot evaluate: written as the difference
+        if zero:
+            return expr
+        at_start = re.sub(r"\bt\b", "(%s)" % fmt(t0), expr)
+        s.comment("Peridigm applies a Prescribed Displacement as increments f(t_n+1) - f(t_n)\n"
+                  "from the start (u = 0 there), so u(t) = f(t) - f(%s); PeriDeal sets u = its\n"
+                  "Value: written as f(t) - f(%s), f(%s) not being 0." % (fmt(t0), fmt(t0), fmt(t0)))
+        self.warn(node, "the prescribed displacement is not 0 at the start (t = %s): Peridigm applies it as increments "
+                  "from u = 0 (u = f(t) - f(%s)), PeriDeal sets u = Value: written as (%s) - (%s)"
+                  % (fmt(t0), fmt(t0), expr, at_start))
+        return "(%s) - (%s)" % (expr, at_start)
 
     # Contact ----------------------------------------------------------------
 
@@ -1667,6 +2161,7 @@ class Converter:
         models = self.prm.sub("Contact models")
         self.from_comment(out, c)
         self.from_comment(models, c.children.get("Models") or c, "'Contact/Models'")
+        self.child(c, "Verbose")  # Peridigm's contact search report: dropped, as every Verbose
         v = self.number(c, "Search Radius")
         if v is not None:
             out.set("Search radius", v)
@@ -1856,8 +2351,10 @@ class Converter:
         if not stage:
             out = self.prm.sub("Solver")
         self.solver_type = None
+        self.time_step_segments = []
         self.from_comment(out, s)
         self.child(s, "Verbose")
+        self.solver_path_keys(s)
         t0 = self.number(s, "Initial Time")
         t1 = self.number(s, "Final Time")
         if stage:
@@ -1889,13 +2386,51 @@ class Converter:
             v = out.sub("Verlet")
             dt = self.number(k, "Fixed dt")
             sf = self.number(k, "Safety Factor")
-            if dt is not None:
+            if dt is not None and float(dt) <= 0:
+                self.cannot(k.children["Fixed dt"], "must be positive, got %s" % dt)
+                dt = None
+            if dt is not None and sf is not None:
+                # Peridigm multiplies a Fixed dt by the Safety Factor too
+                # (Peridigm.cpp, executeExplicit); PeriDeal's Safety factor
+                # applies to its own estimate only.
+                step = float(dt) * float(sf)
+                v.set("Fixed dt", repr(step), "Peridigm's Fixed dt %s times its Safety Factor %s: Peridigm scales a\n"
+                      "fixed step by the safety factor too, PeriDeal does not." % (dt, sf))
+                if float(sf) != 1:
+                    self.warn(k.children["Safety Factor"], "Peridigm multiplies Fixed dt by the Safety Factor: written "
+                              "as Fixed dt = %s x %s = %r (PeriDeal's Safety factor scales its own stable estimate "
+                              "only)" % (dt, sf, step))
+                dt = repr(step)
+            elif dt is not None:
                 v.set("Fixed dt", dt)
-            if sf is not None:
+            if sf is not None and dt is None:
                 v.set("Safety factor", sf)
-                if dt is None:
-                    v.comment("TRAP: the stable time step is estimated by each code its own way:\n"
-                              "the same Safety factor may give a different step (and step count).")
+                v.comment("TRAP: the stable time step is estimated by each code its own way:\n"
+                          "the same Safety factor may give a different step (and step count);\n"
+                          "and Peridigm takes floor(T/dt) steps of dt, PeriDeal ceil(T/dt) steps\n"
+                          "shortened to end at the Final time.")
+            start_t = float(t0) if t0 is not None else 0.0
+            if dt is not None and t1 is not None:
+                span = float(t1) - start_t
+                n = math.floor(span / float(dt))  # Peridigm's count (Peridigm.cpp, executeExplicit)
+                n_perideal = math.ceil(span / float(dt) - 1e-9)  # PeriDeal's (verlet.cc)
+                if n >= 1 and n != n_perideal:
+                    end = start_t + n * float(dt)
+                    out.set("Final time", repr(end),
+                            "Peridigm's Final Time %s is not a whole number of Fixed dt %s from %s:\n"
+                            "Peridigm takes floor(T/dt) = %d steps of dt and stops at %r;\n"
+                            "PeriDeal would take ceil(T/dt) = %d shortened steps to %s. This Final time\n"
+                            "gives Peridigm's %d steps of dt."
+                            % (t1, dt, fmt(start_t), n, end, n_perideal, t1, n))
+                    self.warn(s.children.get("Final Time") or s, "Final Time %s is not a whole number of Fixed dt %s "
+                              "from %s: Peridigm takes floor(T/dt) = %d steps of dt and ends at %r, PeriDeal would "
+                              "take %d shortened steps to %s: written as Final time = %r (Peridigm's steps)"
+                              % (t1, dt, fmt(start_t), n, end, n_perideal, t1, end), path=s.path() + "/Final Time")
+                    t1 = repr(end)
+                elif n < 1:
+                    self.warn(s.children.get("Final Time") or s, "the run (%r) is shorter than Fixed dt %s: Peridigm "
+                              "takes no step; PeriDeal takes one shortened step" % (span, dt),
+                              path=s.path() + "/Final Time")
             if dt is None and sf is None:
                 self.warn(k, "neither Fixed dt nor Safety Factor: PeriDeal's default Safety factor 0.8 applies")
         elif kind in ("QuasiStatic", "NOXQuasiStatic"):
@@ -1904,10 +2439,15 @@ class Converter:
                 out.set("Initial time", t0)
             if t1 is not None:
                 out.set("Final time", t1)
-            n = self.number(k, "Number of Load Steps", required=True, integer=True)
+            steps_node = self.child(k, "Time Steps")
+            n = self.number(k, "Number of Load Steps", required=steps_node is None, integer=True)
             if n is not None:
                 out.set("Number of steps", n)
             imp = out.sub("Implicit")
+            if steps_node is not None and n is not None:
+                self.cannot(steps_node, "both Number of Load Steps and Time Steps: give one")
+            elif steps_node is not None:
+                t1 = self.time_steps(steps_node, out, imp, s, stage, t0, t1)
             v = self.number(k, "Absolute Tolerance")
             if v is not None:
                 imp.set("Absolute tolerance", v)
@@ -1929,7 +2469,12 @@ class Converter:
             self.leftovers(k, essential=False, reason="a solver setting PeriDeal's Newton solver does not have "
                            "(doc/implicit.md); PeriDeal's default applies")
         else:  # Implicit: Newmark
-            out.set("Type", "Newmark", "Peridigm's Implicit: Newmark-beta.")
+            out.set("Type", "Newmark", "Peridigm's Implicit: Newmark-beta.\n"
+                    "TRAP: Peridigm starts Newmark from a = 0; PeriDeal from the acceleration\n"
+                    "of the initial forces: the first step differs (by a factor 2 in its\n"
+                    "displacement under a load applied at once).")
+            self.warn(k, "Peridigm's Newmark starts from a = 0, PeriDeal's from the acceleration of the initial forces: "
+                      "the first step differs (a factor 2 under a load applied at once)")
             dt = self.number(k, "Fixed dt", required=True)
             if dt is not None and float(dt) <= 0:
                 self.cannot(k.children["Fixed dt"], "must be positive, got %s" % dt)
@@ -1939,8 +2484,25 @@ class Converter:
             if t1 is not None:
                 out.set("Final time", t1)
             if dt is not None and t1 is not None:
-                steps = max(1, int(round((float(t1) - float(t0 or 0)) / float(dt))))
-                out.set("Number of steps", str(steps), "(Final Time - Initial Time) / Fixed dt.")
+                # Peridigm's count: floor((Final Time - Initial Time) / Fixed dt)
+                # steps of Fixed dt (Peridigm.cpp, executeImplicit).
+                span = float(t1) - float(t0 or 0)
+                steps = math.floor(span / float(dt))
+                end = float(t0 or 0) + steps * float(dt)
+                if steps >= 1 and abs(end - float(t1)) > 1e-12 * max(abs(span), abs(float(t1))):
+                    out.set("Final time", repr(end),
+                            "Peridigm's Final Time %s is not a whole number of Fixed dt %s: Peridigm takes\n"
+                            "floor(T/dt) = %d steps of dt and stops at %r." % (t1, dt, steps, end))
+                    self.warn(s.children.get("Final Time") or s, "Final Time %s is not a whole number of Fixed dt %s "
+                              "from %s: Peridigm's Implicit takes floor(T/dt) = %d steps of dt and ends at %r: written "
+                              "as Final time = %r and Number of steps = %d" % (t1, dt, fmt(float(t0 or 0)), steps, end,
+                                                                             end, steps), path=s.path() + "/Final Time")
+                    t1 = repr(end)
+                if steps < 1:
+                    self.cannot(s.children.get("Final Time") or s, "the run (%r) is shorter than Fixed dt %s: Peridigm "
+                                "takes no step" % (span, dt), path=s.path() + "/Final Time")
+                    steps = 1
+                out.set("Number of steps", str(steps), "floor((Final Time - Initial Time) / Fixed dt), Peridigm's count.")
             imp = out.sub("Implicit")
             for key, pkey in (("Beta", "Newmark beta"), ("Gamma", "Newmark gamma"),
                               ("Absolute Tolerance", "Absolute tolerance"), ("Relative Tolerance", "Tolerance")):
@@ -1956,6 +2518,82 @@ class Converter:
         self.leftovers(k)
         self.leftovers(s)
         return t1
+
+    def time_steps(self, node, out, imp, s, stage, t0, t1):
+        """Peridigm's QuasiStatic 'Time Steps' (the load-step times, from the
+        first to the last, Peridigm.cpp executeQuasiStatic): the first run of
+        equal steps is this solver (Initial time, Final time, Number of steps),
+        each further run a Solver stage with the same Implicit settings
+        (self.time_step_segments, made into stages by segment_stages). Returns
+        the end time."""
+        try:
+            times = [float(v) for v in node.value.replace(",", " ").split()]
+        except (AttributeError, ValueError):
+            times = []
+        if len(times) < 2 or any(not math.isfinite(t) for t in times) or \
+                any(b <= a for a, b in zip(times, times[1:])):
+            self.cannot(node, "Time Steps must be two or more increasing times, got '%s'"
+                        % (node.value.strip() if node.value else ""))
+            return t1
+        runs = []  # [start, end, steps] of equal steps
+        for a, b in zip(times, times[1:]):
+            if runs and abs((b - a) - (runs[-1][1] - runs[-1][0]) / runs[-1][2]) <= 1e-12 * max(abs(a), abs(b), b - a):
+                runs[-1][1] = b
+                runs[-1][2] += 1
+            else:
+                runs.append([a, b, 1])
+        start = float(t0) if t0 is not None else None
+        if stage and start is not None and abs(times[0] - start) > 1e-12 * max(1.0, abs(start)):
+            self.warn(node, "the first of the Time Steps, %s, is not where the solver before ended (%s): PeriDeal "
+                      "starts a stage there" % (fmt(times[0]), fmt(start)))
+        elif not stage:
+            out.set("Initial time", fmt(times[0]), "The first of Peridigm's Time Steps.")
+        if t1 is not None and abs(float(t1) - times[-1]) > 1e-12 * max(1.0, abs(times[-1])):
+            self.warn(s.children.get("Final Time"), "Final Time %s is not the last of the Time Steps (%s): Peridigm "
+                      "loads to the last of the Time Steps, and so does the converter" % (t1, fmt(times[-1])),
+                      path=s.path() + "/Final Time")
+        out.set("Final time", fmt(runs[0][1]))
+        out.set("Number of steps", str(runs[0][2]),
+                "Peridigm's Time Steps (%s):\n%d load steps in %d run%s of equal steps; this solver takes the first "
+                "(to %s)%s." % (node.value.strip(), len(times) - 1, len(runs), "s" if len(runs) > 1 else "",
+                                fmt(runs[0][1]), ",\nSolver stages the others" if len(runs) > 1 else ""))
+        self.time_step_segments = [(fmt(b), str(n), imp, s.name) for _, b, n in runs[1:]]
+        return fmt(times[-1])
+
+    def segment_stages(self, stages, name, segments):
+        """The Solver stages NAME_steps2, NAME_steps3, ... of a Time Steps
+        list's further runs of equal load steps; returns their names."""
+        import copy
+        names = []
+        for i, (end, n, imp, solver) in enumerate(segments, 2):
+            stage_name = "%s_steps%d" % (name, i)
+            st = stages.sub(stage_name)
+            st.comment("Peridigm's Time Steps of %s: run %d of equal load steps." % (solver, i))
+            st.set("Type", "QuasiStatic")
+            st.set("Final time", end)
+            st.set("Number of steps", n)
+            st.items.append(("sub", copy.deepcopy(imp)))
+            names.append(stage_name)
+        return names
+
+    SOLVER_PATH_KEYS = {
+        "Peridigm Preconditioner": "the preconditioner of Peridigm's matrix-free NOX solves (None, Full Tangent, "
+                                   "Block 3x3): it changes the path of the solver, not the answer; PeriDeal's "
+                                   "Newton solver has its own (Solver/Implicit, doc/implicit.md)",
+        "Initialize Predictor From Previous Solver": "Peridigm's first guess of a solver from the one before it: it "
+                                                     "changes the path of the solver, not the answer; a PeriDeal "
+                                                     "stage starts from the state the one before left",
+    }
+
+    def solver_path_keys(self, s):
+        """The keys of a Peridigm solver (or of its Verlet, QuasiStatic, ...
+        list) that change only how the solver gets to the answer: named, not
+        essential."""
+        for node in [s] + [c for c in s.children.values() if c.is_list()]:
+            for key, why in self.SOLVER_PATH_KEYS.items():
+                c = self.child(node, key)
+                if c is not None:
+                    self.cannot(c, why, essential=False)
 
     # Output -----------------------------------------------------------------
 
@@ -1975,25 +2613,42 @@ class Converter:
         "Global_Angular_Momentum": ("Angular momentum", "Global_Angular_Momentum"),
     }
 
-    LPS_ONLY_FIELDS = ("Dilatation", "Weighted_Volume")
+    # PeriDeal's fields of some models only (pd_app refuses a field no block's
+    # model has: postprocess.cc; the models that declare them: lps.cc,
+    # correspondence.cc, elastic_plastic.cc, elastic_plastic_correspondence.cc).
+    MODEL_FIELDS = {
+        "Dilatation": ("LPS",),
+        "Weighted_Volume": ("LPS",),
+        "Deformation_Gradient": ("Elastic correspondence", "Elastic plastic correspondence"),
+        "Cauchy_Stress": ("Elastic correspondence", "Elastic plastic correspondence"),
+        "Von_Mises_Stress": ("Elastic correspondence", "Elastic plastic correspondence"),
+        "Equivalent_Plastic_Strain": ("Elastic plastic", "Elastic plastic correspondence"),
+    }
 
     def field_of_these_blocks(self, v):
-        """False (and named) for an output variable PeriDeal has for LPS blocks
-        only when no block is LPS: pd_app refuses a field no block has."""
-        if v.name not in self.LPS_ONLY_FIELDS or not getattr(self, "peridigm_blocks", None):
+        """False (and named) for an output variable pd_app would refuse: a
+        field of models no block has, Temperature without a temperature field
+        (the converter writes none); a warning when some blocks lack it."""
+        if v.name == "Temperature":
+            self.cannot(v, "PeriDeal writes Temperature only with a temperature field (Temperature/Function), "
+                        "which the converter does not write: dropped, pd_app would refuse it", essential=False)
+            return False
+        owners = self.MODEL_FIELDS.get(v.name)
+        if owners is None or not getattr(self, "peridigm_blocks", None):
             return True
         models = {}
         for name, material, _, _ in self.block_horizons():
             models.setdefault(self.materials.get(material), []).append(name)
         models.pop(None, None)
-        if not models or "LPS" in models:
-            others = sorted(n for m, names in models.items() if m != "LPS" for n in names)
+        what = " or ".join(owners)
+        if not models or any(m in owners for m in models):
+            others = sorted(n for m, names in models.items() if m not in owners for n in names)
             if others:
-                self.warn(v, "PeriDeal's '%s' is a field of LPS blocks only; blocks %s have none"
-                          % (self.FIELDS[v.name], ", ".join(others)))
+                self.warn(v, "PeriDeal's '%s' is a field of %s blocks only; blocks %s have none"
+                          % (self.FIELDS[v.name], what, ", ".join(others)))
             return True
-        self.cannot(v, "PeriDeal's '%s' is a field of LPS (Peridigm's Elastic) only, and no block is LPS (%s): "
-                    "dropped, pd_app would refuse it" % (self.FIELDS[v.name], "; ".join(
+        self.cannot(v, "PeriDeal's '%s' is a field of %s only, and no block is (%s): dropped, pd_app would "
+                    "refuse it" % (self.FIELDS[v.name], what, "; ".join(
                         "%s: %s" % (m, ", ".join(n)) for m, n in sorted(models.items()))), essential=False)
         return False
 
