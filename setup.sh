@@ -17,7 +17,7 @@ jobs=$(nproc)
 
 # What the build and the tests need (Debian 12). LAMMPS and ParaView are not
 # here: the benchmarks and the picture rendering install their own.
-packages=(cmake g++ make libdeal.ii-dev openmpi-bin libmuparser-dev libexodusii-dev gmsh numdiff python3 python3-h5py)
+packages=(cmake g++ make libdeal.ii-dev openmpi-bin libmuparser-dev libexodusii-dev gmsh numdiff python3 python3-h5py python3-netcdf4)
 
 # Open MPI refuses to run as root, and more ranks than cores, unless told.
 export OMPI_ALLOW_RUN_AS_ROOT=1

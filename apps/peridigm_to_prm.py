@@ -868,6 +868,70 @@ def text_file_blocks(path):
     return ids
 
 
+def exodus_pieces(path):
+    """The files of the Exodus mesh PATH: [PATH], or the pieces PATH.N.i of
+    its decomposition (the smallest complete N) if PATH does not exist, as
+    pd_app reads them; [] if there are none."""
+    if os.path.lexists(path):
+        return [path]
+    folder = os.path.dirname(path) or "."
+    base = os.path.basename(path)
+    found = {}
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return []
+    for name in names:
+        m = re.fullmatch(re.escape(base) + r"\.(\d{1,9})\.(\d{1,9})", name)
+        if m:
+            found.setdefault(int(m.group(1)), {})[int(m.group(2))] = os.path.join(folder, name)
+    for n in sorted(found):
+        if n > 0 and sorted(found[n]) == list(range(n)):
+            return [found[n][i] for i in range(n)]
+    return []
+
+
+class ExodusNames:
+    """The element blocks {name: id} and node sets {name} of an Exodus mesh,
+    named as Peridigm names them (block_ID, nodelist_ID where the file gives
+    no name), read with python3-netcdf4. error says why they could not be
+    read (then the dictionaries are empty)."""
+
+    def __init__(self, path):
+        self.blocks, self.node_sets, self.error = {}, set(), None
+        pieces = exodus_pieces(path)
+        if not pieces:
+            self.error = "neither '%s' nor the pieces '%s.N.i' of a decomposition exist" % (path, path)
+            return
+        try:
+            import netCDF4
+        except ImportError:
+            self.error = "reading an Exodus mesh needs python3-netcdf4 (Debian's package; ./setup.sh installs it)"
+            return
+        try:
+            for piece in pieces:
+                problem = regular_file_problem(piece)
+                if problem:
+                    raise InputError("'%s': %s" % (piece, problem))
+                with netCDF4.Dataset(piece) as d:
+                    self.blocks.update(self.named(d, "eb_prop1", "eb_names", "block_"))
+                    self.node_sets.update(self.named(d, "ns_prop1", "ns_names", "nodelist_"))
+        except (InputError, OSError, RuntimeError, KeyError, ValueError) as e:
+            self.error = "'%s' cannot be read as an Exodus II mesh (%s)" % (path, e)
+            self.blocks, self.node_sets = {}, set()
+
+    @staticmethod
+    def named(d, ids, names, prefix):
+        import netCDF4
+        if ids not in d.variables:
+            return {}
+        numbers = [int(i) for i in d.variables[ids][:]]
+        texts = [""] * len(numbers)
+        if names in d.variables:
+            texts = [str(t).strip() for t in netCDF4.chartostring(d.variables[names][:])]
+        return {(t or "%s%d" % (prefix, i)): i for i, t in zip(numbers, texts)}
+
+
 class Converter:
     ESSENTIAL_SECTIONS = ("Discretization", "Materials", "Blocks", "Solver")
 
@@ -1170,10 +1234,8 @@ class Converter:
                           "the Exodus mesh '%s' is replaced by the Gmsh mesh '%s' (--mesh); Exodus block_N "
                           "is taken as Gmsh volume physical group N, node sets as --node-set says"
                           % (mesh, self.args.mesh), path=d.path() + "/Input Mesh File")
-            else:
-                self.cannot(d.children.get("Type"), "PeriDeal reads no Exodus mesh (its meshes are hexahedral "
-                            "Gmsh .msh files): convert '%s' to Gmsh (e.g. meshio, or mesh the geometry again "
-                            "with Recombine) and give it with --mesh, its node sets with --node-set" % mesh)
+            elif mesh is not None:
+                self.exodus(d, out, mesh)
         elif dtype == "Text File":
             mesh = self.text(d, "Input Mesh File", required=True)
             self.disc_type = "Text file"
@@ -1204,6 +1266,28 @@ class Converter:
         if omit is not None:
             self.cannot(omit, "PeriDeal bonds every two blocks")
         self.leftovers(d)
+
+    def exodus(self, d, out, mesh):
+        """Discretization Type Exodus: the deck's mesh itself (beside the deck
+        if it is there), its blocks and node sets read by name."""
+        self.disc_type = "Exodus"
+        out.set("Type", "Exodus", "Peridigm's Exodus mesh, read by PeriDeal itself: hexahedra become a mesh\n"
+                "of cells (a point at each cell's centroid), any other elements one point each.")
+        e = out.sub("Exodus")
+        here = os.path.join(os.path.dirname(os.path.abspath(self.deck)), mesh)
+        if not os.path.isabs(mesh) and exodus_pieces(here):
+            e.comment("'%s' beside the deck: element block N is material id N." % mesh)
+            mesh = os.path.normpath(here)
+        else:
+            e.comment("Element block N is material id N; a relative path is taken from the\n"
+                      "directory pd_app starts in.")
+        e.set("Mesh file", mesh)
+        for piece in exodus_pieces(mesh):
+            self.input_files.append(("the deck's mesh", piece))
+        self.exodus_names = ExodusNames(mesh)
+        if self.exodus_names.error:
+            self.warn(d.children.get("Input Mesh File"), "the mesh's blocks and node sets are not checked: %s"
+                      % self.exodus_names.error)
 
     def box(self, g, out):
         self.disc_type = "Box"
@@ -1898,6 +1982,8 @@ class Converter:
                 if dn != "block_1":
                     self.cannot(c.children.get("Block Names") or c,
                                 "PdQuickGrid makes one block, block_1, of every point: '%s'" % dn)
+            elif self.disc_type == "Exodus":
+                self.exodus_block(dn, c, s)
             elif self.disc_type in ("Gmsh", "Text file"):
                 m = re.fullmatch(r"block_(\d+)", dn)
                 if not m:
@@ -1913,12 +1999,31 @@ class Converter:
                          ["set", "Names", ", ".join(dn for _, dn, _, _, _ in blocks)])
         self.peridigm_blocks = [(c, [dn], material, damage, h) for c, dn, material, damage, h in blocks]
 
+    def exodus_block(self, name, c, s):
+        """Blocks/NAME/Material ids: the id of the Exodus element block that
+        Peridigm's block NAME is (its name in the file, or block_ID)."""
+        names = self.exodus_names
+        if name in names.blocks:
+            i = names.blocks[name]
+        else:
+            m = re.fullmatch(r"block_(\d+)", name)
+            if names.error is None or not m:
+                self.cannot(c.children.get("Block Names") or c, "the mesh has no element block '%s'%s" % (
+                    name, "; it has " + ", ".join(sorted(names.blocks)) if names.blocks else ""))
+                return
+            i = int(m.group(1))
+        self.block_ids[name] = str(i)
+        s.set("Material ids", str(i), "Exodus element block %s ('%s')." % (i, name))
+
     def mesh_block_names(self):
         """The names (block_N) of the blocks of the discretization, or None
         where the converter cannot list them."""
         if self.disc_type in ("Box", "Cylinder shell"):
             return ["block_1"]
         ids = None
+        if self.disc_type == "Exodus":
+            names = self.exodus_names
+            return None if names.error else sorted(names.blocks, key=lambda n: names.blocks[n])
         if self.disc_type == "Gmsh" and self.args.mesh:
             ids = gmsh_volume_cells(self.args.mesh)[1]
         elif self.disc_type == "Text file" and getattr(self, "point_file", None):
@@ -1976,12 +2081,22 @@ class Converter:
             return None
         spec = self.node_set_specs.get(name)
         if spec is None:
+            if name in self.node_set_defs and self.disc_type in ("Exodus", "Text file"):
+                return self.point_numbers_region(name, self.node_set_defs[name])
             if name in self.node_set_defs:
                 d = self.node_set_defs[name]
                 self.cannot(node, "the node set '%s' is given by node numbers (a list, or a file of them: '%s', "
                             "line %d): PeriDeal's "
                             "regions are geometric; give it with --node-set '%s=box:...' or "
                             "'expression:...'" % (name, d.value.strip(), d.line, name))
+            elif self.disc_type == "Exodus":
+                names = self.exodus_names
+                if names.error is None and name not in names.node_sets:
+                    self.cannot(node, "the mesh has no node set '%s'; it has %s" % (
+                        name, ", ".join(sorted(names.node_sets)) or "none"))
+                    return None
+                self.add_region(name, "Node set", [("Node set", name)], "The Exodus mesh's node set '%s'." % name)
+                return name
             elif getattr(self, "peridigm_disc", None) == "Exodus":
                 self.cannot(node, "the Exodus node set '%s' is not known to PeriDeal: give it with "
                             "--node-set '%s=box:X0,Y0,Z0:X1,Y1,Z1' (or expression:..., group:N)" % (name, name))
@@ -2010,6 +2125,26 @@ class Converter:
         else:
             raise InputError("--node-set %s=%s: SPEC is box:..., expression:... or group:..."
                      % (name, spec))
+        return name
+
+    def point_numbers_region(self, name, d):
+        """A node set the deck gives by Peridigm's point numbers (a list, or
+        a file of them): a region of Type Point numbers (an Exodus mesh's
+        element ids, a Text file's points in the order of its lines)."""
+        text = d.value.strip()
+        if text and all(re.fullmatch(r"[+-]?\d+", t) for t in text.split()):
+            self.add_region(name, "Point numbers", [("Point numbers", " ".join(text.split()))],
+                            "Peridigm's node set '%s': its point numbers (line %d of the deck)." % (name, d.line))
+            return name
+        here = os.path.join(os.path.dirname(os.path.abspath(self.deck)), text)
+        path = os.path.normpath(here) if not os.path.isabs(text) and os.path.lexists(here) else text
+        problem = regular_file_problem(path)
+        if problem:
+            self.cannot(d, "the node set file '%s' of '%s': %s" % (text, name, problem))
+            return None
+        self.input_files.append(("a node set file", path))
+        self.add_region(name, "Point numbers", [("Point number file", path)],
+                        "Peridigm's node set '%s': the point numbers in '%s'." % (name, text))
         return name
 
     def add_region(self, name, rtype, keys, comment=None):
@@ -2328,6 +2463,10 @@ class Converter:
         entries = getattr(self, "peridigm_blocks", [])
         if self.disc_type in ("Box", "Cylinder shell") and block == "block_1":
             return "All"
+        if block in self.block_ids and self.disc_type == "Exodus":
+            self.add_region(block, "Element block", [("Element block", block)],
+                            "Exodus element block %s ('%s')." % (self.block_ids[block], block))
+            return block
         if block in self.block_ids:
             name = block
             self.add_region(name, "Physical group", [("Physical group", self.block_ids[block]),

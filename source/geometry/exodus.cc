@@ -333,6 +333,15 @@ namespace perideal
         std::map<long, std::size_t> element_of_number;
         for (std::size_t e = 0; e < element_number.size(); ++e)
           element_of_number[element_number[e]] = e;
+        // Peridigm numbers its points by the elements' global ids.
+        for (std::size_t e = 0, b = 0; b < mesh.blocks.size(); ++b)
+          for (const long id : mesh.blocks[b].ids)
+            sets.point_cells.emplace_back(id, cell_of_element[e++]);
+        std::sort(sets.point_cells.begin(), sets.point_cells.end());
+        for (std::size_t k = 1; k < sets.point_cells.size(); ++k)
+          AssertThrow(sets.point_cells[k].first != sets.point_cells[k - 1].first,
+                      ExcMessage(where + ": the element map gives the id " +
+                                 std::to_string(sets.point_cells[k].first) + " twice"));
         // The elements of each node, for the node sets.
         std::vector<std::vector<unsigned int>> cells_of_node(mesh.nodes.size());
         for (std::size_t e = 0; e < element_block.size(); ++e)

@@ -115,13 +115,14 @@ namespace perideal
         f.check(ex_get_coord(f.id, x.data(), y.data(), z.data()), "its node coordinates");
       // The global numbers of a piece; a whole file's are their places (its
       // maps, which may number from anywhere, name them for other programs).
-      std::vector<int> node_number(n.nodes), element_number(n.elements);
+      const std::vector<int> element_id = id_map(f, EX_ELEM_MAP, n.elements, "element");
+      std::vector<int>       node_number(n.nodes), element_number(n.elements);
       std::iota(node_number.begin(), node_number.end(), 1);
       std::iota(element_number.begin(), element_number.end(), 1);
       if (decomposed)
         {
           node_number    = id_map(f, EX_NODE_MAP, n.nodes, "node");
-          element_number = id_map(f, EX_ELEM_MAP, n.elements, "element");
+          element_number = element_id;
         }
       for (int i = 0; i < n.nodes; ++i)
         {
@@ -177,7 +178,10 @@ namespace perideal
               if (!attributes.empty())
                 f.check(ex_get_elem_attr(f.id, block_id, attributes.data()), "the attributes of " + block);
               for (int e = 0; e < count; ++e)
-                it->numbers.push_back(element_number.at(first_element + e));
+                {
+                  it->numbers.push_back(element_number.at(first_element + e));
+                  it->ids.push_back(element_id.at(first_element + e));
+                }
               for (const int node : connectivity)
                 it->connectivity.push_back(global_node(node));
               it->attributes.insert(it->attributes.end(), attributes.begin(), attributes.end());
@@ -311,6 +315,7 @@ namespace perideal
             AssertThrow(numbers.insert(b.numbers[e]).second,
                         ExcMessage(where + ": element number " + std::to_string(b.numbers[e]) + " appears twice"));
             sorted.numbers[k] = b.numbers[e];
+            sorted.ids[k]     = b.ids[e];
             std::copy_n(b.connectivity.begin() + e * b.nodes_per_element, b.nodes_per_element,
                         sorted.connectivity.begin() + k * b.nodes_per_element);
             std::copy_n(b.attributes.begin() + e * b.n_attributes, b.n_attributes,

@@ -1,11 +1,15 @@
 // Region Type = Node set, Side set, Element block: the cells of a set that
 // the mesh file names (an Exodus mesh's, SceneGeometry::mesh_sets()), chosen
-// by its name.
+// by its name; Point numbers: the points a Peridigm deck's own node set
+// lists by number.
 #include <perideal/geometry/region.h>
 
 #include <deal.II/grid/tria.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace perideal
 {
@@ -19,6 +23,17 @@ namespace perideal
       side_set,
       element_block
     };
+
+    /// Whether @p cell descends from one of @p cells (sorted level-0 indices):
+    /// deal.II 9.4 keeps the map from coarse cell ids to indices private.
+    bool
+    contains_cell(const std::vector<unsigned int> &cells, const DoFHandler<dim>::active_cell_iterator &cell)
+    {
+      typename Triangulation<dim>::cell_iterator ancestor = cell;
+      while (ancestor->level() > 0)
+        ancestor = ancestor->parent();
+      return std::binary_search(cells.begin(), cells.end(), static_cast<unsigned int>(ancestor->index()));
+    }
 
     template <SetKind kind>
     class MeshSetRegion : public RegionSelector
@@ -70,15 +85,102 @@ namespace perideal
       bool
       contains(const Point<dim> &, const DoFHandler<dim>::active_cell_iterator &cell) const override
       {
-        // The coarse cell's index is its level-0 ancestor's (deal.II 9.4
-        // keeps the map from coarse cell ids to indices private).
-        typename Triangulation<dim>::cell_iterator ancestor = cell;
-        while (ancestor->level() > 0)
-          ancestor = ancestor->parent();
-        return std::binary_search(cells.begin(), cells.end(), static_cast<unsigned int>(ancestor->index()));
+        return contains_cell(cells, cell);
       }
 
     private:
+      std::vector<unsigned int> cells; // sorted level-0 indices
+    };
+
+    class PointNumbersRegion : public RegionSelector
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry("Point numbers", "", Patterns::Anything(),
+                          "Point numbers: the numbers (from 1, separated by spaces or commas) of the points, as a "
+                          "Peridigm deck's own node sets give them: the elements of an Exodus mesh (their places "
+                          "in the file; a decomposition's global numbers), the points of a Text file in the order "
+                          "of its lines.");
+        prm.declare_entry("Point number file", "", Patterns::Anything(),
+                          "Point numbers: a file of such numbers instead (Peridigm's node set file: numbers "
+                          "separated by white space; lines beginning with #, / or * are comments). A relative "
+                          "path is taken from the directory the run starts in.");
+      }
+
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &path, const SceneGeometry &geometry) override
+      {
+        const std::string list = prm.get("Point numbers"), file = prm.get("Point number file");
+        AssertThrow(list.empty() != file.empty(),
+                    ExcMessage(path + "/Type = Point numbers: give either Point numbers or Point number file"));
+        const auto *sets = geometry.mesh_sets();
+        AssertThrow(sets != nullptr && !sets->point_cells.empty(),
+                    ExcMessage(path + "/Type = Point numbers: the scene's points have no numbers (they come "
+                                      "with Discretization/Type = Exodus and Text file)"));
+        const std::string where = file.empty() ? path + "/Point numbers" : path + "/Point number file '" + file + "'";
+        std::string text = list;
+        if (!file.empty())
+          text = read_numbers_file(file, path);
+        std::replace(text.begin(), text.end(), ',', ' ');
+        std::istringstream in(text);
+        for (std::string word; in >> word;)
+          {
+            std::size_t end = 0;
+            long        n   = 0;
+            try
+              {
+                n = std::stol(word, &end);
+              }
+            catch (const std::exception &)
+              {
+                end = 0;
+              }
+            AssertThrow(end == word.size() && end > 0,
+                        ExcMessage(where + ": '" + word + "' is not a point number (a whole number from 1)"));
+            const auto &numbered = sets->point_cells;
+            const auto  it       = std::lower_bound(numbered.begin(), numbered.end(), std::make_pair(n, 0u));
+            AssertThrow(it != numbered.end() && it->first == n,
+                        ExcMessage(where + ": there is no point " + word + " (the points are numbered from " +
+                                   std::to_string(numbered.front().first) + " to " +
+                                   std::to_string(numbered.back().first) + ")"));
+            cells.push_back(it->second);
+          }
+        std::sort(cells.begin(), cells.end());
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+      }
+
+      bool
+      contains(const Point<dim> &, const DoFHandler<dim>::active_cell_iterator &cell) const override
+      {
+        return contains_cell(cells, cell);
+      }
+
+    private:
+      /// The numbers of a node set file, comment lines left out.
+      static std::string
+      read_numbers_file(const std::string &file, const std::string &path)
+      {
+        const std::string key = path + "/Point number file";
+        std::error_code   error;
+        AssertThrow(std::filesystem::is_regular_file(std::filesystem::status(file, error)),
+                    ExcMessage(key + ": '" + file + "' " +
+                               (std::filesystem::exists(std::filesystem::status(file, error)) ?
+                                  "is not a regular file" :
+                                  "does not exist")));
+        std::ifstream in(file);
+        AssertThrow(in, ExcMessage(key + ": cannot open '" + file + "'"));
+        std::string text, line;
+        while (std::getline(in, line))
+          {
+            const auto first = line.find_first_not_of(" \t\r");
+            if (first != std::string::npos && line[first] != '#' && line[first] != '/' && line[first] != '*')
+              text += line + ' ';
+          }
+        return text;
+      }
+
       std::vector<unsigned int> cells; // sorted level-0 indices
     };
 
@@ -91,6 +193,8 @@ namespace perideal
                     "the points of a node set of the mesh file (Discretization/Type = Exodus), by name.")
   PERIDEAL_REGISTER(RegionSelector, SideSetRegion, "Side set",
                     "the points of the elements with a side in a side set of the mesh file, by name.")
+  PERIDEAL_REGISTER(RegionSelector, PointNumbersRegion, "Point numbers",
+                    "the points a Peridigm deck's own node set lists by number (Exodus, Text file).")
   PERIDEAL_REGISTER(RegionSelector, ElementBlockRegion, "Element block",
                     "the points of an element block of the mesh file, by name.")
 } // namespace perideal

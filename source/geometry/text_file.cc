@@ -84,6 +84,24 @@ namespace perideal
             points.push_back(CloudPoint{Point<dim>(x[0], x[1], x[2]), volume, static_cast<unsigned int>(block)});
           }
         AssertThrow(!points.empty(), ExcMessage(key + " '" + file + "' holds no point"));
+        // In the order create_point_cubes() makes their cells, which then
+        // keeps it: point number n (its line among the points) is the cell
+        // of sets.point_cells[n - 1], for Regions of Type Point numbers.
+        const std::vector<unsigned int> order = morton_order(points);
+        std::vector<CloudPoint>         sorted(points.size());
+        sets.point_cells.resize(points.size());
+        for (unsigned int c = 0; c < order.size(); ++c)
+          {
+            sorted[c]                    = points[order[c]];
+            sets.point_cells[order[c]] = {long(order[c]) + 1, c};
+          }
+        points = std::move(sorted);
+      }
+
+      const MeshSets *
+      mesh_sets() const override
+      {
+        return &sets;
       }
 
       void
@@ -100,7 +118,8 @@ namespace perideal
 
     private:
       std::string             file;
-      std::vector<CloudPoint> points;
+      std::vector<CloudPoint> points; // in Morton order
+      MeshSets                sets;
     };
   } // namespace
 

@@ -27,6 +27,7 @@ namespace perideal
       std::string type; // the file's element type in capitals: SPHERE, HEX8, TETRA, ...
       unsigned int nodes_per_element = 0, n_attributes = 0;
       std::vector<long>   numbers;      // the elements' numbers (from 1): places in the file, or a decomposition's global numbers
+      std::vector<long>   ids;          // their global ids (the element map), Peridigm's point numbers
       std::vector<long>   connectivity; // node indices (from 0), nodes_per_element per element
       std::vector<double> attributes;   // n_attributes per element
     };

@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace perideal
@@ -27,6 +28,11 @@ namespace perideal
   struct MeshSets
   {
     std::map<std::string, std::vector<unsigned int>> node_sets, side_sets, element_blocks;
+    /// Peridigm's point numbers (from 1) and their cells, sorted by number:
+    /// the numbers a Peridigm deck's own node sets give, an Exodus mesh's
+    /// element ids (its element map), a Text file's points in the order of
+    /// its lines.
+    std::vector<std::pair<long, unsigned int>> point_cells;
   };
 
   /// One way to make the coarse mesh: a plugin registered with
