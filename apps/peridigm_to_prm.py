@@ -30,14 +30,16 @@ status 1.
 
 Options:
   --mesh FILE.msh        Peridigm's Exodus discretization is read from this
-                         Gmsh mesh instead (PeriDeal reads no Exodus):
-                         Exodus block_N is the Gmsh volume physical group N
+                         Gmsh mesh instead of the deck's Exodus mesh (which
+                         pd_app reads itself without --mesh): Exodus
+                         block_N is the Gmsh volume physical group N
                          (material id N). A mesh with tetrahedra, prisms or
                          pyramids is read with Cells as points = true (each
                          cell one point at its centroid, as Peridigm does).
   --node-set NAME=SPEC   what a Peridigm node set (an Exodus node set, a file
-                         or list of node numbers) is in space, as a PeriDeal
-                         region: box:X0,Y0,Z0:X1,Y1,Z1, expression:EXPR (a
+                         or list of point numbers) is in space, as a PeriDeal
+                         region, instead of the mesh's node set or the
+                         numbers (needed with --mesh and for cylinders): box:X0,Y0,Z0:X1,Y1,Z1, expression:EXPR (a
                          muparser expression in x, y, z, non-zero inside) or
                          group:N[:DIM] (a Gmsh physical group, DIM 3 or 2).
                          May be repeated.
@@ -2081,7 +2083,7 @@ class Converter:
             return None
         spec = self.node_set_specs.get(name)
         if spec is None:
-            if name in self.node_set_defs and self.disc_type in ("Exodus", "Text file"):
+            if name in self.node_set_defs and self.disc_type in ("Exodus", "Text file", "Box"):
                 return self.point_numbers_region(name, self.node_set_defs[name])
             if name in self.node_set_defs:
                 d = self.node_set_defs[name]
@@ -2130,7 +2132,8 @@ class Converter:
     def point_numbers_region(self, name, d):
         """A node set the deck gives by Peridigm's point numbers (a list, or
         a file of them): a region of Type Point numbers (an Exodus mesh's
-        element ids, a Text file's points in the order of its lines)."""
+        element ids, a Text file's points in the order of its lines, a
+        PdQuickGrid box's points x fastest, as PeriDeal's Box numbers them)."""
         text = d.value.strip()
         if text and all(re.fullmatch(r"[+-]?\d+", t) for t in text.split()):
             self.add_region(name, "Point numbers", [("Point numbers", " ".join(text.split()))],

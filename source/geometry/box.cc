@@ -96,6 +96,25 @@ namespace perideal
         return true;
       }
 
+      long
+      n_numbered_points() const override
+      {
+        return long(subdivisions[0]) * subdivisions[1] * subdivisions[2];
+      }
+
+      long
+      point_number(const Point<dim> &x) const override
+      {
+        long number = 0;
+        for (int d = dim - 1; d >= 0; --d)
+          {
+            const double h = (upper[d] - lower[d]) / subdivisions[d];
+            const long   i = std::clamp(long(std::floor((x[d] - lower[d]) / h)), 0L, long(subdivisions[d]) - 1);
+            number         = number * subdivisions[d] + i;
+          }
+        return number + 1;
+      }
+
       std::string
       cells_key() const override
       {

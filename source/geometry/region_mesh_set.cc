@@ -100,9 +100,9 @@ namespace perideal
       {
         prm.declare_entry("Point numbers", "", Patterns::Anything(),
                           "Point numbers: the numbers (from 1, separated by spaces or commas) of the points, as a "
-                          "Peridigm deck's own node sets give them: the elements of an Exodus mesh (their places "
-                          "in the file; a decomposition's global numbers), the points of a Text file in the order "
-                          "of its lines.");
+                          "Peridigm deck's own node sets give them: the elements of an Exodus mesh (their ids, "
+                          "the element map), the points of a Text file in the order of its lines, the cells of a "
+                          "Box in PdQuickGrid's order (x fastest, then y, then z).");
         prm.declare_entry("Point number file", "", Patterns::Anything(),
                           "Point numbers: a file of such numbers instead (Peridigm's node set file: numbers "
                           "separated by white space; lines beginning with #, / or * are comments). A relative "
@@ -115,10 +115,13 @@ namespace perideal
         const std::string list = prm.get("Point numbers"), file = prm.get("Point number file");
         AssertThrow(list.empty() != file.empty(),
                     ExcMessage(path + "/Type = Point numbers: give either Point numbers or Point number file"));
-        const auto *sets = geometry.mesh_sets();
-        AssertThrow(sets != nullptr && !sets->point_cells.empty(),
+        const auto *sets     = geometry.mesh_sets();
+        const bool  by_cells = sets != nullptr && !sets->point_cells.empty();
+        AssertThrow(by_cells || geometry.n_numbered_points() > 0,
                     ExcMessage(path + "/Type = Point numbers: the scene's points have no numbers (they come "
-                                      "with Discretization/Type = Exodus and Text file)"));
+                                      "with Discretization/Type = Exodus, Text file and Box)"));
+        if (!by_cells)
+          scene = &geometry;
         const std::string where = file.empty() ? path + "/Point numbers" : path + "/Point number file '" + file + "'";
         std::string text = list;
         if (!file.empty())
@@ -139,6 +142,14 @@ namespace perideal
               }
             AssertThrow(end == word.size() && end > 0,
                         ExcMessage(where + ": '" + word + "' is not a point number (a whole number from 1)"));
+            if (!by_cells)
+              {
+                AssertThrow(n >= 1 && n <= geometry.n_numbered_points(),
+                            ExcMessage(where + ": there is no point " + word + " (the points are numbered from 1 to " +
+                                       std::to_string(geometry.n_numbered_points()) + ")"));
+                numbers.push_back(n);
+                continue;
+              }
             const auto &numbered = sets->point_cells;
             const auto  it       = std::lower_bound(numbered.begin(), numbered.end(), std::make_pair(n, 0u));
             AssertThrow(it != numbered.end() && it->first == n,
@@ -149,11 +160,14 @@ namespace perideal
           }
         std::sort(cells.begin(), cells.end());
         cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        std::sort(numbers.begin(), numbers.end());
       }
 
       bool
       contains(const Point<dim> &, const DoFHandler<dim>::active_cell_iterator &cell) const override
       {
+        if (scene != nullptr)
+          return std::binary_search(numbers.begin(), numbers.end(), scene->point_number(cell->center()));
         return contains_cell(cells, cell);
       }
 
@@ -181,7 +195,9 @@ namespace perideal
         return text;
       }
 
-      std::vector<unsigned int> cells; // sorted level-0 indices
+      std::vector<unsigned int> cells;           // sorted level-0 indices, or
+      std::vector<long>         numbers;         // the sorted numbers, of
+      const SceneGeometry      *scene = nullptr; // a scene that numbers its points by position
     };
 
     using NodeSetRegion      = MeshSetRegion<SetKind::node_set>;
@@ -194,7 +210,7 @@ namespace perideal
   PERIDEAL_REGISTER(RegionSelector, SideSetRegion, "Side set",
                     "the points of the elements with a side in a side set of the mesh file, by name.")
   PERIDEAL_REGISTER(RegionSelector, PointNumbersRegion, "Point numbers",
-                    "the points a Peridigm deck's own node set lists by number (Exodus, Text file).")
+                    "the points a Peridigm deck's own node set lists by number (Exodus, Text file, Box).")
   PERIDEAL_REGISTER(RegionSelector, ElementBlockRegion, "Element block",
                     "the points of an element block of the mesh file, by name.")
 } // namespace perideal

@@ -73,6 +73,20 @@ namespace perideal
       return nullptr;
     }
 
+    /// For a scene that numbers its points by position: how many points,
+    /// and Peridigm's number (from 1) of the point whose cell centre is @p x
+    /// (Box: PdQuickGrid's order, x fastest, then y, then z). 0 otherwise.
+    virtual long
+    n_numbered_points() const
+    {
+      return 0;
+    }
+    virtual long
+    point_number(const dealii::Point<dim> &) const
+    {
+      return 0;
+    }
+
     /// The keys that set the number of cells, named by the size check.
     virtual std::string
     cells_key() const = 0;
