@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # PeriDeal's one set-up entry point.
 #
-#   ./setup.sh run    install what is missing, build, run the default example
-#   ./setup.sh test   install what is missing, build, run the test suite (ctest)
+#   ./setup.sh run    install what is missing, build pd_app, run the default example
+#   ./setup.sh test   install what is missing, build everything, run the test suite (ctest)
 #
 # Installs Debian packages with apt-get (with sudo when not root) only when
 # some are missing, configures build/ (CMake, Release) and builds with all
@@ -54,15 +54,17 @@ install_missing() {
     apt-get install -y --no-install-recommends "${missing[@]}"
 }
 
+# configure_and_build [TARGET]: configure build/ and build TARGET (pd_app
+# for the example), or everything (the test programs too).
 configure_and_build() {
   cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release
-  cmake --build "$build" --parallel "$jobs"
+  cmake --build "$build" --parallel "$jobs" ${1:+--target "$1"}
 }
 
 case "${1:-}" in
   run)
     install_missing
-    configure_and_build
+    configure_and_build pd_app
     [[ -f $example/params.prm ]] ||
       { echo "setup.sh: the default example $example/params.prm is missing" >&2; exit 1; }
     cd "$example"
