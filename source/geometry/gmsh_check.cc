@@ -121,7 +121,6 @@ namespace perideal
 
     // deal.II's vertex order from Gmsh's: Gmsh goes around each face.
     constexpr std::array<unsigned int, 8> gmsh_vertex = {{0, 1, 3, 2, 4, 5, 7, 6}};
-    const double g = 0.5 / std::sqrt(3.);
     unsigned long bad = 0, hex_index = 0, first_index = 0;
     long          first_tag = 0, first_node = 0;
     Point<dim>    first_centroid;
@@ -135,7 +134,7 @@ namespace perideal
                     ExcMessage(where + ": element " + std::to_string(e.tag) + " is a hexahedron with " +
                                std::to_string(e.nodes.size()) + " nodes instead of 8"));
         std::array<Point<dim>, 8> v;
-        Point<dim>                centroid, low, high;
+        Point<dim>                centroid;
         for (unsigned int c = 0; c < 8; ++c)
           {
             const auto it = mesh.nodes.find(e.nodes[gmsh_vertex[c]]);
@@ -144,30 +143,12 @@ namespace perideal
             v[c] = it->second;
             centroid += v[c] / 8;
           }
-        low = high = v[0];
-        for (const auto &p : v)
-          for (unsigned int d = 0; d < dim; ++d)
-            low[d] = std::min(low[d], p[d]), high[d] = std::max(high[d], p[d]);
-        const double size = low.distance(high);
-        const double zero = 1e-12 * size * size * size;
-        // The Jacobian at the 8 corners and at the 8 Gauss points: of one
-        // sign in a valid cell (negative: a cell numbered left-handed, which
+        // Of one sign in a valid cell (negative: numbered left-handed, which
         // deal.II inverts), whose volume is then the Gauss points' mean.
-        unsigned int          positive = 0, negative = 0;
-        std::array<double, 8> corner{};
-        double                volume = 0;
-        for (unsigned int q = 0; q < 16; ++q)
-          {
-            const unsigned int    c = q % 8;
-            std::array<double, 3> t;
-            for (unsigned int d = 0; d < dim; ++d)
-              t[d] = q < 8 ? ((c >> d) & 1) : 0.5 + (((c >> d) & 1) ? g : -g);
-            const double det = hex_jacobian(v, t);
-            (q < 8 ? corner[c] : volume) += (q < 8 ? det : det / 8);
-            positive += det > zero;
-            negative += det < -zero;
-          }
-        if (std::isfinite(size) && (positive == 16 || negative == 16))
+        const HexJacobians J      = hex_jacobians(v);
+        const auto        &corner = J.corner;
+        const double       volume = J.volume;
+        if (J.one_sign)
           continue;
         if (++bad == 1)
           {

@@ -44,6 +44,33 @@ namespace perideal
     return volume / 8;
   }
 
+  HexJacobians
+  hex_jacobians(const std::array<Point<dim>, 8> &v)
+  {
+    Point<dim> low = v[0], high = v[0];
+    for (const auto &p : v)
+      for (unsigned int d = 0; d < dim; ++d)
+        low[d] = std::min(low[d], p[d]), high[d] = std::max(high[d], p[d]);
+    const double size = low.distance(high);
+    const double zero = 1e-12 * size * size * size;
+    const double g    = 0.5 / std::sqrt(3.);
+    HexJacobians result;
+    unsigned int positive = 0, negative = 0;
+    for (unsigned int q = 0; q < 16; ++q)
+      {
+        const unsigned int    c = q % 8;
+        std::array<double, 3> t;
+        for (unsigned int d = 0; d < dim; ++d)
+          t[d] = q < 8 ? ((c >> d) & 1) : 0.5 + (((c >> d) & 1) ? g : -g);
+        const double det = hex_jacobian(v, t);
+        (q < 8 ? result.corner[c] : result.volume) += (q < 8 ? det : det / 8);
+        positive += det > zero;
+        negative += det < -zero;
+      }
+    result.one_sign = std::isfinite(size) && (positive == 16 || negative == 16);
+    return result;
+  }
+
   bool
   hex_centroid(const std::array<Point<dim>, 8> &v, Point<dim> &centroid)
   {

@@ -19,6 +19,19 @@ namespace perideal
   double
   hex_jacobian(const std::array<dealii::Point<dim>, 8> &v, const std::array<double, 3> &t);
 
+  /// The Jacobian at the 8 corners and at the 8 Gauss points, the check of a
+  /// cell read from a mesh file: valid (one_sign) if the 16 values have one
+  /// sign beyond 1e-12 of the bounding box's diagonal cubed (negative: a cell
+  /// numbered left-handed, which deal.II turns).
+  struct HexJacobians
+  {
+    std::array<double, 8> corner{}; // at vertex k
+    double                volume   = 0; // signed: the Gauss points' mean
+    bool                  one_sign = false;
+  };
+  HexJacobians
+  hex_jacobians(const std::array<dealii::Point<dim>, 8> &v);
+
   /// The volume: the Jacobian integrated by the 2-point Gauss rule in each
   /// direction, exact for the trilinear map (its Jacobian is quadratic in each
   /// reference coordinate).
