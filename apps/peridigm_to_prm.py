@@ -2798,13 +2798,17 @@ class Converter:
         if not sections:
             return
         out = self.prm.sub("Output")
+        exodus_output = False
         field_done = False
         globals_frequency = None
         extra_computes = []
         for o in sections:
             self.from_comment(out, o)
             ftype = self.text(o, "Output File Type", essential=False)
-            if ftype is not None and ftype != "VTU":
+            if ftype is None or ftype.lower() == "exodusii":
+                # Peridigm's default, Exodus II: the same file, variables named as Peridigm names them.
+                exodus_output = True
+            elif ftype != "VTU":
                 out.comment("Peridigm's %s becomes VTU files (.pvd, .pvtu, .vtu) for ParaView." % ftype)
             self.child(o, "Output Format")
             self.child(o, "Parallel Write")
@@ -2861,6 +2865,11 @@ class Converter:
                     out.set("Base name", base)
                 if freq is not None:
                     globals_frequency = freq
+        if exodus_output and field_done:
+            out.set("Field format", "exodus",
+                    "Peridigm's Exodus II output: <base name>.e, points as SPHERE elements, variables\n"
+                    "named as Peridigm names them (DisplacementX, Force_DensityX, Damage, ...); one file\n"
+                    "for all ranks (Exodus files = per rank: one per rank, as Peridigm writes them).")
         if globals_frequency is not None:
             out.set("Globals frequency", globals_frequency,
                     "The globals CSV every this many steps (Peridigm's output of global variables).")

@@ -262,14 +262,26 @@ namespace perideal
                       "digits). double: Float64, every digit of a double (a verification that reads the "
                       "fields back), in the same format (zlib-compressed VTU pieces, a .pvtu, the .pvd); "
                       "the files are about twice as large.");
-    prm.declare_entry("Field format", "vtu", Patterns::Selection("vtu|hdf5"),
+    prm.declare_entry("Field format", "vtu", Patterns::Selection("vtu|hdf5|exodus"),
                       "vtu: a zlib-compressed .vtu piece per rank and step, a .pvtu per step, the .pvd series "
                       "(values at the cells' vertices: nodal fields of FE cells as they are). hdf5, for runs of "
                       "millions of points: one <base name>_<step>.h5 per step for all ranks (MPI-IO), the mesh "
                       "once in <base name>_<step>.mesh.h5 (again only if the written cells change), and "
                       "<base name>.xdmf, the series ParaView opens (XDMF Reader). Every field is cell-centred: "
                       "a point's value, an FE cell's nodal fields at its centre. Uncompressed; Field precision "
-                      "applies to the fields and the node coordinates.");
+                      "applies to the fields and the node coordinates. exodus: Peridigm's output, "
+                      "<base name>.e (Exodus II), a time step per output step: each point a node (at its "
+                      "reference position) with a SPHERE element in its block's element block, each FE cell "
+                      "a HEX8; vector fields as nodal variables (DisplacementX, ...), the other fields as "
+                      "element variables (Damage; a tensor's XX, XY, ...), the globals row as global variables "
+                      "at the output steps that write one; see Exodus files. A new file <base name>.e-s0002 "
+                      "(and so on) starts if the written cells change.");
+    prm.declare_entry("Exodus files", "joined", Patterns::Selection("joined|per rank"),
+                      "Field format = exodus on several ranks. joined: one <base name>.e, which scripts and "
+                      "SEACAS' tools read as it is; the ranks write their parts into it in turn (no rank holds "
+                      "more than its own), so its output steps take longer on many ranks. per rank: each rank "
+                      "writes <base name>.e.N.r (N ranks, r its number), as Peridigm does in parallel; "
+                      "ParaView opens the pieces as one, and the ranks write at once.");
     prm.declare_entry("Fragments", "false", Patterns::Bool(),
                       "Write <base name>.fragments.csv at every field output step (Frequency): a row per "
                       "fragment (the pieces the intact bonds hold together, numbered in the order of their "
@@ -291,6 +303,8 @@ namespace perideal
     fragments = prm.get_bool("Fragments");
     double_precision = prm.get("Field precision") == "double";
     hdf5             = prm.get("Field format") == "hdf5";
+    exodus           = prm.get("Field format") == "exodus";
+    exodus_per_rank  = prm.get("Exodus files") == "per rank";
     checkpoint.parse_parameters(prm, directory, base_name);
     variables.clear();
     for (const auto &v : Utilities::split_string_list(prm.get("Variables"), ','))
@@ -360,6 +374,11 @@ namespace perideal
     out.put(mesh_cells_total);
     out.put(mesh_nodes_total);
     out.put(mesh_cells);
+    out.section("exodus series");
+    out.put(exodus_files);
+    out.put(exodus_steps);
+    out.put(exodus_cells);
+    out.put(exodus_globals);
   }
 
   void
@@ -374,6 +393,11 @@ namespace perideal
     in.get(mesh_cells_total);
     in.get(mesh_nodes_total);
     in.get(mesh_cells);
+    in.section("exodus series");
+    in.get(exodus_files);
+    in.get(exodus_steps);
+    in.get(exodus_cells);
+    in.get(exodus_globals);
   }
 
   void
@@ -400,6 +424,10 @@ namespace perideal
     xdmf_grids.clear();
     mesh_file.clear();
     mesh_cells.clear();
+    exodus_files = 0;
+    exodus_steps = 0;
+    exodus_cells.clear();
+    exodus_globals.clear();
   }
 
   void
@@ -428,10 +456,17 @@ namespace perideal
                              const std::vector<VectorField> &vector_fields,
                              const unsigned int              step,
                              const double                    time,
-                             const MPI_Comm                  comm)
+                             const MPI_Comm                  comm,
+                             const ExodusMesh               *exodus_mesh,
+                             const GlobalsRow               &globals_row)
   {
     if (cell_fields.empty() && vector_fields.empty())
       return;
+    if (exodus)
+      {
+        Assert(exodus_mesh != nullptr, ExcInternalError());
+        return write_exodus(*exodus_mesh, cell_fields, vector_fields, globals_row, time, comm);
+      }
     if (hdf5)
       return write_hdf5(dof_handler, written_cells, cell_fields, vector_fields, step, time, comm);
     CellDataOut data_out;

@@ -22,6 +22,7 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <set>
 #include <sstream>
 
 namespace perideal
@@ -314,13 +315,50 @@ namespace perideal
       for (const auto &cell : discretization.dof_handler.active_cell_iterators())
         if (cell->is_locally_owned() && cell->active_fe_index() > 0)
           written_cells[cell->active_cell_index()] = true;
+    const OutputWriter::ExodusMesh exodus_mesh = output.exodus ? this->exodus_mesh() : OutputWriter::ExodusMesh();
     output.write_fields(discretization.dof_handler, written_cells, cell_fields, vector_fields, step + step_offset,
-                        time, comm);
+                        time, comm, &exodus_mesh, row);
     // After the step's field files, before its globals row (README, Output).
     if (output.fragments)
       write_fragments(fragments, step + step_offset, time);
     if (globals)
       output.write_globals(row, comm);
+  }
+
+  OutputWriter::ExodusMesh
+  Postprocess::exodus_mesh() const
+  {
+    OutputWriter::ExodusMesh mesh;
+    // Element block ids: the blocks' material ids (an Exodus mesh's block
+    // ids), as Peridigm numbers its blocks, where each block has one of its
+    // own; otherwise the blocks' order from 1.
+    std::set<unsigned int> ids;
+    bool                   own_ids = true;
+    for (const Block &block : discretization.blocks)
+      own_ids = own_ids && block.material_ids.size() == 1 && block.material_ids[0] > 0 &&
+                ids.insert(block.material_ids[0]).second;
+    for (unsigned int b = 0; b < discretization.blocks.size(); ++b)
+      {
+        const Block &block = discretization.blocks[b];
+        mesh.blocks.push_back({block.name, own_ids ? int(block.material_ids[0]) : int(b + 1), block.continuum});
+      }
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!discretization.is_virtual(i))
+        {
+          mesh.point_cells.push_back(cloud.cell[i]);
+          mesh.point_X.insert(mesh.point_X.end(), &cloud.X[dim * i], &cloud.X[dim * i] + dim);
+          mesh.point_block.push_back(cloud.block[i]);
+          mesh.point_id.push_back(cloud.gid[i] + 1);
+        }
+    mesh.point_ids_end = cloud.n_global(); // virtual points too: the continuum's ids follow
+    if (has_continuum)
+      for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+          {
+            mesh.fe_cells.push_back(cell);
+            mesh.fe_block.push_back(discretization.block_of_cell(cell));
+          }
+    return mesh;
   }
 
   void

@@ -9,7 +9,9 @@
 // steps only, no piece of another step, and a CSV never ahead of the .pvd.
 // Output/Field format = hdf5 writes HDF5 files and an XDMF series instead
 // (xdmf.cc), with the same ordering: a step's .h5 gets its name when
-// complete, then the .xdmf lists it.
+// complete, then the .xdmf lists it. Output/Field format = exodus writes
+// Peridigm's output, an Exodus II file that grows by a time step per output
+// step (exodus_output.cc).
 
 #include <perideal/base/input.h>
 #include <perideal/material/field_store.h>
@@ -93,12 +95,40 @@ namespace perideal
     using VectorField = std::pair<std::string,
                                   const dealii::LinearAlgebra::distributed::Vector<double> *>;
 
+    /// This rank's part of the Exodus file's mesh (Field format = exodus):
+    /// each PD point a node with a SPHERE element, each continuum cell a
+    /// HEX8 on its vertices, in the element block of its block.
+    struct ExodusMesh
+    {
+      struct Block
+      {
+        std::string name;
+        int         id        = 0;     // the element block's id
+        bool        continuum = false; // HEX8 elements; otherwise SPHERE
+      };
+      std::vector<Block> blocks;
+      // The owned PD points (not the virtual ones): the cell whose DoFs and
+      // cell field entries hold the point's values, the reference position
+      // (dim numbers each), the block and the id (1-based, rank-independent).
+      std::vector<dealii::DoFHandler<3>::active_cell_iterator> point_cells;
+      std::vector<double>                                      point_X;
+      std::vector<unsigned int>                                point_block;
+      std::vector<std::int64_t>                                point_id;
+      std::uint64_t point_ids_end = 0; // the point ids are below it; the continuum's nodes' and cells' above
+      // The owned cells of continuum blocks and their blocks.
+      std::vector<dealii::DoFHandler<3>::active_cell_iterator> fe_cells;
+      std::vector<unsigned int>                                fe_block;
+    };
+    using GlobalsRow = std::vector<std::pair<std::string, double>>;
+
     /// Writes one output step of @p cell_fields and @p vector_fields (DG0
     /// vectors on @p dof_handler) on the locally owned cells whose
     /// @p written_cells entry (by active cell index) is true: the cells that
     /// hold a point or FE DoFs, not the cells no block claims. A vector or
     /// tensor cell field becomes one array of 3 or 9 components in the
-    /// files, as ParaView reads them. Collective.
+    /// files, as ParaView reads them. Field format = exodus writes
+    /// @p exodus_mesh instead of the cells, and @p globals (the step's
+    /// globals row, if it has one) as global variables. Collective.
     void
     write_fields(const dealii::DoFHandler<3>    &dof_handler,
                  const std::vector<bool>        &written_cells,
@@ -106,7 +136,9 @@ namespace perideal
                  const std::vector<VectorField> &vector_fields,
                  const unsigned int              step,
                  const double                    time,
-                 const MPI_Comm                  comm);
+                 const MPI_Comm                  comm,
+                 const ExodusMesh               *exodus_mesh = nullptr,
+                 const GlobalsRow               &globals     = {});
 
     /// Appends a row to <directory>/<base name>.globals.csv (rank 0 writes;
     /// the first row of a run or a restart writes the file whole, with the
@@ -137,6 +169,8 @@ namespace perideal
     bool                  fragments = false; // <base name>.fragments.csv at field steps
     bool                  double_precision = false; // Field precision = double: Float64 arrays
     bool                  hdf5             = false; // Field format = hdf5: .h5 files and an .xdmf series
+    bool                  exodus           = false; // Field format = exodus: <base name>.e
+    bool                  exodus_per_rank  = false; // Exodus files = per rank: <base name>.e.N.r
     CheckpointParameters  checkpoint;               // Output/Checkpoint
 
   private:
@@ -153,6 +187,21 @@ namespace perideal
                const double                    time,
                const MPI_Comm                  comm);
 
+    /// write_fields() for Field format = exodus (exodus_output.cc): a time
+    /// step of <base name>.e (or this rank's <base name>.e.N.r), created at
+    /// the first output step and again, as <base name>.e-s0002 and so on,
+    /// when the written mesh changes. Collective.
+    void
+    write_exodus(const ExodusMesh               &mesh,
+                 const std::vector<CellField>   &cell_fields,
+                 const std::vector<VectorField> &vector_fields,
+                 const GlobalsRow               &globals,
+                 const double                    time,
+                 const MPI_Comm                  comm);
+    /// The name of the series' current file on this rank.
+    std::string
+    exodus_file_name(const MPI_Comm comm) const;
+
     std::string                                 parameters, parameter_file;
     std::vector<std::pair<double, std::string>> pvd_records;
     std::vector<std::string>                    csv_lines;
@@ -164,6 +213,13 @@ namespace perideal
     std::string               mesh_file;
     std::uint64_t             mesh_cells_total = 0, mesh_nodes_total = 0;
     std::vector<unsigned int> mesh_cells;
+    // The Exodus series: its files so far (the current one's number), the
+    // time steps in the current one, this rank's mesh in it (points, then
+    // continuum cells, by active cell index) and its global variables.
+    unsigned int              exodus_files = 0;
+    unsigned int              exodus_steps = 0;
+    std::vector<unsigned int> exodus_cells;
+    std::vector<std::string>  exodus_globals;
   };
 
   /// The longest file name (path included) Open MPI 4.1's MPI_File_open

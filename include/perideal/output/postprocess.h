@@ -70,6 +70,10 @@ namespace perideal
     ComputeData
     compute_data() const;
 
+    /// This rank's points and continuum cells for Output/Field format = exodus.
+    OutputWriter::ExodusMesh
+    exodus_mesh() const;
+
     /// Adds the rows of @p fragments to <base name>.fragments.csv and writes
     /// it whole (rank 0), as the other output files.
     void
