@@ -1267,6 +1267,13 @@ class Converter:
         omit = self.child(d, "Omit Bonds Between Blocks")
         if omit is not None:
             self.cannot(omit, "PeriDeal bonds every two blocks")
+        interfaces = self.child(d, "Construct Interfaces")
+        if interfaces is not None:
+            # ExodusDiscretization: it keeps the mesh and builds the faces
+            # between elements for the interface aperture output only.
+            self.cannot(interfaces, "Peridigm's interface faces between elements feed its interface aperture "
+                        "output only (the mechanics does not use them); PeriDeal has no such output",
+                        essential=False)
         self.leftovers(d)
 
     def exodus(self, d, out, mesh):
