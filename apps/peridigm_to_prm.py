@@ -1267,6 +1267,13 @@ class Converter:
         omit = self.child(d, "Omit Bonds Between Blocks")
         if omit is not None:
             self.cannot(omit, "PeriDeal bonds every two blocks")
+        interfaces = self.child(d, "Construct Interfaces")
+        if interfaces is not None:
+            # ExodusDiscretization: it keeps the mesh and builds the faces
+            # between elements for the interface aperture output only.
+            self.cannot(interfaces, "Peridigm's interface faces between elements feed its interface aperture "
+                        "output only (the mechanics does not use them); PeriDeal has no such output",
+                        essential=False)
         self.leftovers(d)
 
     def exodus(self, d, out, mesh):
@@ -2269,7 +2276,16 @@ class Converter:
         """Peridigm applies a Prescribed Displacement f as increments f(t_n+1)
         - f(t_n) from the displacement at the start (its DirichletIncrementBC,
         none at t = t0), so u(t) = u(t0) + f(t) - f(t0); PeriDeal sets u =
-        f(t). Where f(t0) is not 0 the value becomes f(t) - f(t0)."""
+        f(t). Where f(t0) is not 0 the value becomes f(t) - f(t0). But where
+        the increment is 0 (Peridigm's BoundaryCondition::evaluateMuParser: "a
+        constant prescribed displacement") Peridigm takes the value minus the
+        present displacement as the increment, u = f: an f that does not
+        depend on t is the displacement itself, written as it is."""
+        if not re.search(r"\bt\b", expr) and "rnd(" not in expr:
+            if expr.strip() not in ("0", "0.0"):
+                s.comment("Constant in time: Peridigm applies a prescribed displacement whose increment\n"
+                          "f(t_n+1) - f(t_n) is 0 as u = f (the value, not an increment), as PeriDeal.")
+            return expr
         t0 = self.start_time()
         try:
             zero = all(evaluate_expression(expr, {"x": x, "y": y, "z": z, "t": t0}) == 0
