@@ -1831,8 +1831,10 @@ class Converter:
     def check_isolated_points(self, node):
         """Points with no neighbour within their block's horizon, where the
         converter has the points (a Box, a Text File): Peridigm runs them (such
-        a point moves freely under its conditions), pd_app refuses them
-        outside contact: a comment and a warning with how many."""
+        a point moves freely under its conditions), and so does pd_app with a
+        warning, but it refuses a body all of whose points are such (outside
+        contact) and holds them in place in a quasistatic solve: a comment and
+        a warning with how many."""
         blocks = {dn[0]: (h[0] if h else None) for _, dn, _, _, h in getattr(self, "peridigm_blocks", [])}
         disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
         horizon = {name: float(h if h is not None else disc_h) for name, h in blocks.items()
@@ -1894,12 +1896,22 @@ class Converter:
             return
         if not isolated:
             return
+        # pd_app refuses a body without a bond, outside contact (a deck with
+        # Contact: its blocks' points may be free particles).
+        top = getattr(node, "parent", None)
+        every = isolated == total and not (top is not None and "Contact" in getattr(top, "children", {}))
         self.prm.sub("Discretization").comment(
             "TRAP: %d of the %d points have no neighbour within the horizon. Peridigm\n"
-            "runs them: such a point moves freely under its conditions. pd_app refuses\n"
-            "them outside contact (a horizon below the point spacing)." % (isolated, total))
+            "runs them: such a point moves freely under its conditions, and so does\n"
+            "pd_app's (with a warning). pd_app refuses a body all of whose points are\n"
+            "such (outside contact: a horizon below the point spacing), and a\n"
+            "quasistatic solve holds them in place (an Error if a load acts on one)."
+            % (isolated, total))
         self.warn(node, "%d of the %d points have no neighbour within the horizon (%s): Peridigm runs them (each "
-                  "moves freely under its conditions), pd_app refuses them outside contact" % (isolated, total, where))
+                  "moves freely under its conditions), and so does pd_app with a warning%s; a quasistatic solve "
+                  "holds them in place" % (isolated, total, where,
+                                           ", but not when every point is one outside contact, as here"
+                                           if every else ""))
 
     # Blocks -----------------------------------------------------------------
 

@@ -3,6 +3,7 @@
 // solve with its line search and the re-solves while bonds break, the load
 // path's work; and what QuasiStatic and Newmark share (ImplicitIntegrator).
 
+#include <perideal/base/best_point.h>
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
 #include <perideal/continuum/coupling.h>
@@ -72,7 +73,7 @@ namespace perideal
     fe_free.clear();
     if (has_continuum)
       state.for_each([&](const MechanicalState::DoF &d) {
-        if (!held[d.number] && !state.is_virtual(d.number))
+        if (!held[d.number] && !is_pinned(d.number) && !state.is_virtual(d.number))
           {
             unknown_dofs.push_back(d.number);
             (state.is_fe(d.number) ? fe_free : pd_free)
@@ -133,6 +134,25 @@ namespace perideal
   }
 
   void
+  ImplicitSolver::check_pinned_loads(const unsigned int step) const
+  {
+    if (n_pinned == 0 || !access.conditions.has_loads())
+      return;
+    // A point without bonds under a load has no quasistatic equilibrium.
+    BestPoint loaded(BestPoint::Order::largest);
+    for (unsigned int k = 0; k < pinned.size(); ++k)
+      if (pinned[k] && access.conditions.load(k) != 0)
+        loaded.consider(std::abs(access.conditions.load(k)), cloud.gid[k / dim], &cloud.X[dim * (k / dim)]);
+    const BestPoint p = loaded.global(comm);
+    AssertThrow(!p.found,
+                ExcMessage("load step " + std::to_string(step) + ": the quasistatic problem has no equilibrium: the " +
+                           p.describe() + " has no bond (no neighbor within the horizon) and carries a body force "
+                           "of " + sci(p.value) + " (per unit volume, in one component): nothing holds it against "
+                           "the load. Bond it (a larger horizon), prescribe its displacement, or use an explicit "
+                           "solver (Type = Verlet), in which it moves freely"));
+  }
+
+  void
   ImplicitSolver::setup(const bool need_supports)
   {
     unsigned int hops = 1;
@@ -141,11 +161,30 @@ namespace perideal
 
     // Which local degrees of freedom are prescribed (ghosts from their owners).
     const unsigned int n_owned = cloud.n_owned();
+    // A quasistatic solve holds the free entries of a point without bonds
+    // where they are (its rows of K are empty): identity rows as at a
+    // support, no residual; a load on one has no equilibrium (check_pinned_loads()).
+    pinned.assign(need_supports ? dim * n_owned : 0, 0);
+    n_pinned = 0;
+    if (need_supports)
+      for (unsigned int i = 0; i < n_owned; ++i)
+        if (access.discretization.bonds.offsets[i + 1] == access.discretization.bonds.offsets[i] &&
+            !state.is_virtual(dim * i))
+          for (unsigned int c = 0; c < dim; ++c)
+            if (!access.conditions.prescribed[dim * i + c])
+              {
+                pinned[dim * i + c] = 1;
+                ++n_pinned;
+              }
+    n_pinned = Utilities::MPI::sum(n_pinned, comm);
     {
       VectorType flags(cloud.vector_partitioner);
       for (const auto &c : access.conditions.constraints)
         if (!state.is_fe(c.dof))
           flags.local_element(c.dof) = 1;
+      for (unsigned int k = 0; k < pinned.size(); ++k)
+        if (pinned[k])
+          flags.local_element(k) = 1;
       flags.update_ghost_values();
       constrained_dofs.assign(dim * cloud.n_local(), 0);
       for (unsigned int k = 0; k < dim * cloud.n_local(); ++k)
@@ -213,7 +252,7 @@ namespace perideal
         double             r = state.measure(k) * state.f(k);
         if (newmark_inertia > 0)
           r -= state.mass(k) * newmark_inertia * (state.u(k) - u_predicted[k]);
-        R[j] = held[k] ? 0 : r;
+        R[j] = held[k] || is_pinned(k) ? 0 : r;
         free += R[j] * R[j];
       }
     state.for_each([&](const MechanicalState::DoF &d) {
@@ -299,6 +338,7 @@ namespace perideal
     std::vector<double> R(n), du(n), u0(n);
     NewtonResult        result;
     double              forces = 0;
+    check_pinned_loads(step);
     double              r      = residual(R, forces);
     rebuild_amg                = true; // a new solve builds its own hierarchy
     const double        r_start   = r;

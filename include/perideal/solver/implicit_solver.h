@@ -79,6 +79,17 @@ namespace perideal
     centre_and_extent(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns) const;
     void
     check_supports(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns) const;
+    /// Quasistatic: an Error if a point without bonds (pinned) carries a
+    /// load at the current time. Collective.
+    void
+    check_pinned_loads(const unsigned int step) const;
+    /// Whether DoF @p k is a free entry of a point without bonds that a
+    /// quasistatic solve holds where it is.
+    bool
+    is_pinned(const unsigned int k) const
+    {
+      return k < pinned.size() && pinned[k];
+    }
     NewtonResult
     solve_newton(const unsigned int step);
     /// R = V (f + b) - M a on the free DoFs of the current displacement;
@@ -119,6 +130,8 @@ namespace perideal
     std::unique_ptr<CoupledTangent> coupled_tangent; // with continuum blocks
     bool                            symmetry_reported = false;
     std::vector<std::uint8_t>       constrained_dofs; // per local point entry, ghosts too
+    std::vector<std::uint8_t>       pinned;   // quasistatic: per owned point entry, 1 at the free entries of a point without bonds
+    unsigned int                    n_pinned = 0; // pinned entries over all ranks
     // The unknowns, by DoF number: every point entry (prescribed ones get
     // identity rows), or with continuum blocks the free DoFs of
     // coupled_tangent.h (real points' entries, then FE DoFs).
