@@ -1140,6 +1140,14 @@ class Converter:
                     stage_names.append(name)
                     end = self.solver_section(self.child(top, n), out=stages.sub(name), start=end)
                     solver_types.append(self.solver_type)
+                    if solver_types[-2] == "QuasiStatic" and self.solver_type in ("Verlet", "Newmark"):
+                        # Peridigm's QuasiStatic leaves v = delta u / delta t of its
+                        # last load step (Peridigm.cpp, executeQuasiStatic: 'Store the
+                        # velocity'), and the next solver starts from it.
+                        stages.sub(name).set("Velocity after quasistatic", "load step",
+                                             "Peridigm's hand-off: %s starts at the velocity of %s's last load\n"
+                                             "step, (u_n - u_(n-1)) / dt; PeriDeal's default (rest) would start it\n"
+                                             "with the free points at rest." % (n, solvers[len(solver_types) - 2]))
                     stage_names += self.segment_stages(stages, name, self.time_step_segments)
                 stages.set("Names", ", ".join(stage_names), "Peridigm's %s, run after %s in this order%s."
                            % (", ".join(solvers[1:]) or "load steps", solvers[0],
