@@ -2203,6 +2203,8 @@ class Converter:
     }
 
     def conditions_section(self, b):
+        # Components some Prescribed Displacement holds (free_translations()).
+        self.held_components = set()
         if b is None:
             return
         out = self.prm.sub("Boundary conditions")
@@ -2261,6 +2263,7 @@ class Converter:
                 s.comment("Peridigm: %s" % value_node.value.strip())
             if btype == "Prescribed Displacement":
                 expr = self.displacement_from_start(expr, value_node, s)
+                self.held_components.add(coord.lower())
             s.set("Value", expr)
             if "rnd(" in expr:
                 uses_rnd = True
@@ -2537,6 +2540,18 @@ class Converter:
                             "Implicit": "Newmark"}[kind]
         if stage and t0 is not None:
             out.comment("Starts at t = %s, where the solver before it ends." % t0)
+        free = sorted(set("xyz") - getattr(self, "held_components", set()))
+        if self.solver_type == "QuasiStatic" and free:
+            # No Prescribed Displacement along these: the body is free to
+            # translate along them (the rotations depend on the node sets).
+            out.comment("No Prescribed Displacement acts along %s: the body is free to translate\n"
+                        "that way. Peridigm solves it when the loads balance, and its answer may\n"
+                        "carry any rigid part; PeriDeal projects the free motions out (its\n"
+                        "displacement has no rigid part) and refuses loads that push along them."
+                        % ", ".join(free))
+            self.warn(s, "no Prescribed Displacement acts along %s, so the body may translate freely that way: "
+                      "PeriDeal solves it with the free motions projected out (no rigid part; Peridigm's answer "
+                      "may carry one) and refuses loads that push along them" % ", ".join(free))
         if kind == "Verlet":
             out.set("Type", "Verlet", "Peridigm's Verlet: explicit velocity Verlet.")
             if t0 is not None and not stage:
