@@ -1140,6 +1140,14 @@ class Converter:
                     stage_names.append(name)
                     end = self.solver_section(self.child(top, n), out=stages.sub(name), start=end)
                     solver_types.append(self.solver_type)
+                    if solver_types[-2] == "QuasiStatic" and self.solver_type in ("Verlet", "Newmark"):
+                        # Peridigm's QuasiStatic leaves v = delta u / delta t of its
+                        # last load step (Peridigm.cpp, executeQuasiStatic: 'Store the
+                        # velocity'), and the next solver starts from it.
+                        stages.sub(name).set("Velocity after quasistatic", "load step",
+                                             "Peridigm's hand-off: %s starts at the velocity of %s's last load\n"
+                                             "step, (u_n - u_(n-1)) / dt; PeriDeal's default (rest) would start it\n"
+                                             "with the free points at rest." % (n, solvers[len(solver_types) - 2]))
                     stage_names += self.segment_stages(stages, name, self.time_step_segments)
                 stages.set("Names", ", ".join(stage_names), "Peridigm's %s, run after %s in this order%s."
                            % (", ".join(solvers[1:]) or "load steps", solvers[0],
@@ -1838,8 +1846,10 @@ class Converter:
     def check_isolated_points(self, node):
         """Points with no neighbour within their block's horizon, where the
         converter has the points (a Box, a Text File): Peridigm runs them (such
-        a point moves freely under its conditions), pd_app refuses them
-        outside contact: a comment and a warning with how many."""
+        a point moves freely under its conditions), and so does pd_app with a
+        warning, but it refuses a body all of whose points are such (outside
+        contact) and holds them in place in a quasistatic solve: a comment and
+        a warning with how many."""
         blocks = {dn[0]: (h[0] if h else None) for _, dn, _, _, h in getattr(self, "peridigm_blocks", [])}
         disc_h = self.disc_horizon[0] if getattr(self, "disc_horizon", None) else None
         horizon = {name: float(h if h is not None else disc_h) for name, h in blocks.items()
@@ -1901,12 +1911,22 @@ class Converter:
             return
         if not isolated:
             return
+        # pd_app refuses a body without a bond, outside contact (a deck with
+        # Contact: its blocks' points may be free particles).
+        top = getattr(node, "parent", None)
+        every = isolated == total and not (top is not None and "Contact" in getattr(top, "children", {}))
         self.prm.sub("Discretization").comment(
             "TRAP: %d of the %d points have no neighbour within the horizon. Peridigm\n"
-            "runs them: such a point moves freely under its conditions. pd_app refuses\n"
-            "them outside contact (a horizon below the point spacing)." % (isolated, total))
+            "runs them: such a point moves freely under its conditions, and so does\n"
+            "pd_app's (with a warning). pd_app refuses a body all of whose points are\n"
+            "such (outside contact: a horizon below the point spacing), and a\n"
+            "quasistatic solve holds them in place (an Error if a load acts on one)."
+            % (isolated, total))
         self.warn(node, "%d of the %d points have no neighbour within the horizon (%s): Peridigm runs them (each "
-                  "moves freely under its conditions), pd_app refuses them outside contact" % (isolated, total, where))
+                  "moves freely under its conditions), and so does pd_app with a warning%s; a quasistatic solve "
+                  "holds them in place" % (isolated, total, where,
+                                           ", but not when every point is one outside contact, as here"
+                                           if every else ""))
 
     # Blocks -----------------------------------------------------------------
 
@@ -2190,6 +2210,8 @@ class Converter:
     }
 
     def conditions_section(self, b):
+        # Components some Prescribed Displacement holds (free_translations()).
+        self.held_components = set()
         if b is None:
             return
         out = self.prm.sub("Boundary conditions")
@@ -2248,6 +2270,7 @@ class Converter:
                 s.comment("Peridigm: %s" % value_node.value.strip())
             if btype == "Prescribed Displacement":
                 expr = self.displacement_from_start(expr, value_node, s)
+                self.held_components.add(coord.lower())
             s.set("Value", expr)
             if "rnd(" in expr:
                 uses_rnd = True
@@ -2533,6 +2556,18 @@ class Converter:
                             "Implicit": "Newmark"}[kind]
         if stage and t0 is not None:
             out.comment("Starts at t = %s, where the solver before it ends." % t0)
+        free = sorted(set("xyz") - getattr(self, "held_components", set()))
+        if self.solver_type == "QuasiStatic" and free:
+            # No Prescribed Displacement along these: the body is free to
+            # translate along them (the rotations depend on the node sets).
+            out.comment("No Prescribed Displacement acts along %s: the body is free to translate\n"
+                        "that way. Peridigm solves it when the loads balance, and its answer may\n"
+                        "carry any rigid part; PeriDeal projects the free motions out (its\n"
+                        "displacement has no rigid part) and refuses loads that push along them."
+                        % ", ".join(free))
+            self.warn(s, "no Prescribed Displacement acts along %s, so the body may translate freely that way: "
+                      "PeriDeal solves it with the free motions projected out (no rigid part; Peridigm's answer "
+                      "may carry one) and refuses loads that push along them" % ", ".join(free))
         if kind == "Verlet":
             out.set("Type", "Verlet", "Peridigm's Verlet: explicit velocity Verlet.")
             if t0 is not None and not stage:

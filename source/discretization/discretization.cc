@@ -428,32 +428,48 @@ namespace perideal
   }
 
   void
-  Discretization::check_isolated_points() const
+  Discretization::check_isolated_points()
   {
-    // A point without a neighbor cannot carry load: a horizon below the
-    // spacing. Only in a block in contact may a point be a free particle.
-      unsigned int isolated = 0;
-      BestPoint    first(BestPoint::Order::smallest); // the smallest global id
-      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-        if (bonds.offsets[i + 1] == bonds.offsets[i] && !is_virtual(i) && // see drop_unweighted_bonds()
-            !contact.involves(blocks[cloud.block[i]].name) && // a particle that only touches others
-            !blocks[cloud.block[i]].rigid)
-          {
-            ++isolated;
-            first.consider(0, cloud.gid[i], &cloud.X[3 * i], BestPoint::Kind::point, cloud.block[i]);
-          }
-      const unsigned int total = Utilities::MPI::sum(isolated, comm);
-      if (total > 0)
+    // A point without a neighbor carries no load: it moves freely under its
+    // conditions (a body force, a prescribed displacement, an initial
+    // velocity), as Peridigm moves it. Said, with how many, so that a
+    // horizon below the spacing in part of a mesh does not pass unnoticed;
+    // a body of which every point is one has no bond at all, which is a
+    // mistake (a horizon below the spacing everywhere), not a scene. In a
+    // block in contact a point may be a free particle, and a rigid block has
+    // no bonds: neither counts.
+    unsigned int candidates = 0, isolated = 0;
+    BestPoint    first(BestPoint::Order::smallest); // the smallest global id
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!is_virtual(i) && // see drop_unweighted_bonds()
+          !contact.involves(blocks[cloud.block[i]].name) && !blocks[cloud.block[i]].rigid)
         {
-          const BestPoint p     = first.global(comm);
-          const Block    &block = blocks[static_cast<unsigned int>(p.tag)];
-          AssertThrow(false,
-                      ExcMessage(std::to_string(total) + " points have no neighbor within the horizon, "
-                                 "the first " + p.describe() +
-                                 " in block '" + block.name + "' with horizon " + sci(block.horizon) +
-                                 ": the horizon must exceed the point spacing (Blocks/" + block.name +
-                                 "/Horizon or Discretization/Horizon)"));
+          ++candidates;
+          if (bonds.offsets[i + 1] == bonds.offsets[i])
+            {
+              ++isolated;
+              first.consider(0, cloud.gid[i], &cloud.X[3 * i], BestPoint::Kind::point, cloud.block[i]);
+            }
         }
+    unsigned int counts[2] = {candidates, isolated};
+    Utilities::MPI::sum(ArrayView<const unsigned int>(counts, 2), comm, ArrayView<unsigned int>(counts, 2));
+    const unsigned int total = counts[1];
+    if (total == 0)
+      return;
+    const BestPoint p     = first.global(comm);
+    const Block    &block = blocks[static_cast<unsigned int>(p.tag)];
+    const std::string where = "the first " + p.describe() + " in block '" + block.name + "' with horizon " +
+                              sci(block.horizon);
+    AssertThrow(total < counts[0],
+                ExcMessage(std::to_string(total) + " points have no neighbor within the horizon, " + where +
+                           ": no point of the body has a bond; the horizon must exceed the point spacing (Blocks/" +
+                           block.name + "/Horizon or Discretization/Horizon)"));
+    setup_warnings.push_back(std::to_string(total) + " of " + std::to_string(counts[0]) +
+                             " points have no neighbor within the horizon, " + where +
+                             ": each has no bond and moves freely under its conditions (body force, prescribed "
+                             "displacement, initial velocity; a quasistatic solve holds it where it is); a horizon "
+                             "above the point spacing bonds them (Blocks/" + block.name +
+                             "/Horizon or Discretization/Horizon)");
   }
 
   double

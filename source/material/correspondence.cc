@@ -150,6 +150,15 @@ namespace perideal
     VectorType   &a       = state.fields.get("corr_gershgorin");
     for (const unsigned int i : points)
       {
+        if (state.bonds.offsets[i] == state.bonds.offsets[i + 1])
+          {
+            // A point without bonds moves freely: no shape tensor, no
+            // stiffness (compute_forces gives it F = I and no stress).
+            for (unsigned int k = 0; k < 9; ++k)
+              Kinv.local_element(9 * i + k) = 0;
+            a.local_element(i) = 0;
+            continue;
+          }
         double Ks[6] = {0, 0, 0, 0, 0, 0};
         for (std::size_t b = state.bonds.offsets[i]; b < state.bonds.offsets[i + 1]; ++b)
           {

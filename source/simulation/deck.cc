@@ -70,6 +70,15 @@ namespace perideal
                             "last step of each solver is written.");
           prm.declare_entry("Globals frequency", "-1", Patterns::Integer(-1),
                             "Output/Globals frequency for the steps of this solver (-1: Output's).");
+          prm.declare_entry("Velocity after quasistatic", "rest", Patterns::Selection("rest|load step"),
+                            "The velocity this stage starts with when the solver before it is QuasiStatic "
+                            "(after any other, the velocity it ended with). rest: the points free of "
+                            "Prescribed displacement conditions at rest (a quasistatic state is an equilibrium "
+                            "reached without motion), the prescribed ones at their condition's rate. load step: "
+                            "every point at the velocity of the last load step, (u_n - u_(n-1)) / dt, dt the "
+                            "load step's length: Peridigm's hand-off from QuasiStatic to the next solver (the "
+                            "converter writes it). The kinetic energy this gives is added to the energy put in "
+                            "(the summary's balance). A quasistatic stage starts at rest either way.");
         }
       prm.declare_entry("Final time", "0", Patterns::Double(), "End time. The number of steps is ceil((final - initial)/dt), and dt is then shortened to land on the final time exactly (Verlet steps shortened for fast points, see Verlet/Fixed dt, add steps).");
       prm.declare_entry("Number of steps", "0", Patterns::Integer(0), "If positive: run exactly this many steps of dt and ignore Final time.");
@@ -583,6 +592,16 @@ namespace perideal
         parse_solver(stage.solver, stage.integrator, "Solver stages/" + name, true);
         stage.output_frequency  = prm.get_integer("Output frequency");
         stage.globals_frequency = prm.get_integer("Globals frequency");
+        stage.velocity_of_load_step = prm.get("Velocity after quasistatic") == "load step";
+        {
+          const std::string &before = deck.stages.empty() ? deck.solver.type : deck.stages.back().solver.type;
+          AssertThrow(!stage.velocity_of_load_step || (before == "QuasiStatic" && stage.solver.type != "QuasiStatic"),
+                      ExcMessage("Solver stages/" + name + "/Velocity after quasistatic = load step: " +
+                                 (before != "QuasiStatic" ?
+                                    "the solver before this stage is " + before +
+                                      ", not QuasiStatic: its velocity is handed over as it is (use rest)" :
+                                    std::string("this stage is QuasiStatic, which starts at rest (use rest)"))));
+        }
         // Known now only where both ends are given; else checked when the stage starts.
         AssertThrow(stage.solver.requested_steps > 0 || stage.solver.final_time > previous_end,
                     ExcMessage("Solver stages/" + name + "/Final time (" + sci(stage.solver.final_time, 6) +

@@ -49,6 +49,8 @@ namespace perideal
     const auto start = std::chrono::steady_clock::now();
     discretization   = std::make_unique<Discretization>(deck, comm, pcout, timer, dry_run_mode);
     discretization->setup();
+    record.warnings.insert(record.warnings.end(), discretization->setup_warnings.begin(),
+                           discretization->setup_warnings.end());
     model = std::make_unique<ForceModel>(*discretization, state, record, comm, timer);
     if (!deck.temperature.function.empty())
       model->set_temperature(std::make_unique<Expression>(deck.temperature.function, "Temperature/Function"),

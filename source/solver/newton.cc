@@ -3,6 +3,7 @@
 // solve with its line search and the re-solves while bonds break, the load
 // path's work; and what QuasiStatic and Newmark share (ImplicitIntegrator).
 
+#include <perideal/base/best_point.h>
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
 #include <perideal/continuum/coupling.h>
@@ -72,7 +73,7 @@ namespace perideal
     fe_free.clear();
     if (has_continuum)
       state.for_each([&](const MechanicalState::DoF &d) {
-        if (!held[d.number] && !state.is_virtual(d.number))
+        if (!held[d.number] && !is_pinned(d.number) && !state.is_virtual(d.number))
           {
             unknown_dofs.push_back(d.number);
             (state.is_fe(d.number) ? fe_free : pd_free)
@@ -108,6 +109,17 @@ namespace perideal
     return {centre, Utilities::MPI::max(extent, comm)};
   }
 
+  namespace
+  {
+    /// A load whose component along a free rigid-body motion exceeds this
+    /// fraction of its norm (both as force vectors over the unknowns, the
+    /// motion of unit length) excites the motion: a body in equilibrium
+    /// under it would have to be held. Round-off in a balanced load is
+    /// about 1e-16 of it; a load that is meant to balance but is written
+    /// with few digits is caught above 1e-8.
+    constexpr double free_mode_tolerance = 1e-8;
+  } // namespace
+
   void
   ImplicitSolver::check_supports(const std::vector<std::pair<Point<3>, unsigned int>> &unknowns) const
   {
@@ -117,19 +129,232 @@ namespace perideal
     for (const auto &c : access.conditions.constraints)
       prescribed.emplace_back(state.position(c.dof), state.component(c.dof));
     const auto [centre, extent] = centre_and_extent(unknowns);
+    std::vector<std::array<double, 6>> modes;
+    const std::vector<std::string> names = free_rigid_modes(prescribed, centre, extent, comm, &modes);
     std::string free_modes;
-    for (const auto &mode : free_rigid_modes(prescribed, centre, extent, comm))
+    for (const auto &mode : names)
       free_modes += (free_modes.empty() ? "" : ", ") + mode;
-    AssertThrow(free_modes.empty(),
+    // With continuum blocks the unknowns are the coupled tangent's and the
+    // motions are not projected out of its solve.
+    AssertThrow(free_modes.empty() || !has_continuum,
                 ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
                            "motion(s) " + free_modes + ". Prescribe displacements (Type = Prescribed "
-                           "displacement) on regions that hold the body in place"));
+                           "displacement) on regions that hold the body in place (with continuum blocks a free "
+                           "motion is not projected out of the solve)"));
+    if (free_modes.empty())
+      return;
+    // Without: solved with them projected out, if the loads leave them
+    // alone; the loads of the current time are checked here (the run's
+    // start: a stage is refused before any solver runs), each load step's
+    // in check_free_mode_loads().
+    std::vector<std::vector<double>> named(names.size());
+    for (unsigned int m = 0; m < names.size(); ++m)
+      named[m] = free_mode_vector(unknowns, centre, extent, modes[m]);
+    const double t0 = access.deck.solver.initial_time;
+    if (access.conditions.has_loads())
+      access.conditions.evaluate_loads(t0); // as the solver starting there will
+    check_free_mode_loads(names, named, "at t = " + sci(t0, 6));
+  }
+
+  std::vector<double>
+  ImplicitSolver::free_mode_vector(const std::vector<std::pair<Point<3>, unsigned int>> &unknowns,
+                                   const std::array<double, 3> &centre, const double extent,
+                                   const std::array<double, 6> &mode) const
+  {
+    // Zero at prescribed entries (a free motion leaves them in place) and
+    // at pinned ones (their rows of K are the identity's).
+    const std::vector<std::uint8_t> &held = access.conditions.prescribed;
+    std::vector<double>              z(unknowns.size(), 0.0);
+    for (unsigned int j = 0; j < unknowns.size(); ++j)
+      {
+        const unsigned int k = unknown_dofs[j];
+        if (held[k] || is_pinned(k))
+          continue;
+        const auto &[p, c] = unknowns[j];
+        for (unsigned int m = 0; m < 6; ++m)
+          z[j] += mode[m] * rigid_mode_value(m, c, p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]) /
+                  (m < 3 ? 1 : extent);
+      }
+    return z;
+  }
+
+  void
+  ImplicitSolver::check_free_mode_loads(const std::vector<std::string>         &names,
+                                        const std::vector<std::vector<double>> &named,
+                                        const std::string                      &when) const
+  {
+    if (names.empty())
+      return;
+    // Per motion: z.L and |z|^2; and |L|^2. L = V b on the free unknowns
+    // (a load on a prescribed entry is its support's).
+    const std::vector<std::uint8_t> &held = access.conditions.prescribed;
+    const bool                       loads = access.conditions.has_loads();
+    std::vector<double>              sums(2 * names.size() + 1, 0.0);
+    for (unsigned int j = 0; j < unknown_dofs.size(); ++j)
+      {
+        const unsigned int k = unknown_dofs[j];
+        const double       L = loads && !held[k] && !is_pinned(k) ? state.measure(k) * access.conditions.load(k) : 0.0;
+        for (unsigned int m = 0; m < names.size(); ++m)
+          {
+            sums[2 * m] += named[m][j] * L;
+            sums[2 * m + 1] += named[m][j] * named[m][j];
+          }
+        sums.back() += L * L;
+      }
+    Utilities::MPI::sum(sums, comm, sums);
+    const double load_norm = std::sqrt(sums.back());
+    std::string  excited, all;
+    double       largest = 0;
+    for (unsigned int m = 0; m < names.size(); ++m)
+      {
+        all += (all.empty() ? "" : ", ") + names[m];
+        const double part = std::abs(sums[2 * m]) / (std::sqrt(sums[2 * m + 1]) * load_norm);
+        if (load_norm > 0 && sums[2 * m + 1] > 0 && part > free_mode_tolerance)
+          {
+            excited += (excited.empty() ? "" : ", ") + names[m];
+            largest = std::max(largest, part);
+          }
+      }
+    AssertThrow(excited.empty(),
+                ExcMessage("the quasistatic problem is singular: no boundary condition removes the rigid-body "
+                           "motion(s) " + all + ", and " + when + " the loads push the body along " + excited +
+                           " (their component along it is " + sci(largest, 3) + " of their norm, above " +
+                           sci(free_mode_tolerance, 1) + "): no equilibrium holds it. Prescribe displacements "
+                           "(Type = Prescribed displacement) on regions that hold the body in place, or balance "
+                           "the loads"));
+  }
+
+  void
+  ImplicitSolver::check_free_mode_loads(const unsigned int step) const
+  {
+    check_free_mode_loads(free_names, free_named, "at load step " + std::to_string(step));
+  }
+
+  void
+  ImplicitSolver::setup_free_modes(const std::vector<std::pair<Point<3>, unsigned int>> &unknowns)
+  {
+    free_names.clear();
+    free_named.clear();
+    free_basis.clear();
+    mode_pins.clear();
+    if (has_continuum)
+      return; // check_supports() refused them
+    std::vector<std::pair<Point<dim>, unsigned int>> prescribed;
+    for (const auto &c : access.conditions.constraints)
+      prescribed.emplace_back(state.position(c.dof), state.component(c.dof));
+    const auto [centre, extent] = centre_and_extent(unknowns);
+    std::vector<std::array<double, 6>> modes;
+    free_names = free_rigid_modes(prescribed, centre, extent, comm, &modes);
+    if (free_names.empty())
+      return;
+    const unsigned int n = unknowns.size(), m = free_names.size();
+    for (unsigned int i = 0; i < m; ++i)
+      free_named.push_back(free_mode_vector(unknowns, centre, extent, modes[i]));
+    // An orthonormal basis (modified Gram-Schmidt, twice for round-off).
+    free_basis = free_named;
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int pass = 0; pass < 2; ++pass)
+        {
+          for (unsigned int l = 0; l < i; ++l)
+            {
+              double dot = 0;
+              for (unsigned int j = 0; j < n; ++j)
+                dot += free_basis[i][j] * free_basis[l][j];
+              dot = Utilities::MPI::sum(dot, comm);
+              for (unsigned int j = 0; j < n; ++j)
+                free_basis[i][j] -= dot * free_basis[l][j];
+            }
+          double norm = 0;
+          for (const double x : free_basis[i])
+            norm += x * x;
+          norm = std::sqrt(Utilities::MPI::sum(norm, comm));
+          AssertThrow(norm > 0, ExcInternalError());
+          for (double &x : free_basis[i])
+            x /= norm;
+        }
+    // One unknown per motion held at 0 in each linear solve makes K
+    // regular: Gaussian elimination with full pivoting over the basis
+    // vectors picks them (the largest remaining entry, the smallest global
+    // id on ties), so the held entries determine the motion well.
+    std::vector<std::vector<double>> rest = free_basis;
+    std::vector<std::uint8_t>        taken(n, 0);
+    for (unsigned int i = 0; i < m; ++i)
+      {
+        BestPoint best(BestPoint::Order::largest);
+        for (unsigned int j = 0; j < n; ++j)
+          if (!taken[j] && unknown_dofs[j] < state.point_entries())
+            {
+              const unsigned int k = unknown_dofs[j];
+              const double       x[3] = {double(j), 0, 0};
+              best.consider(std::abs(rest[i][j]), dim * cloud.gid[k / dim] + k % dim, x);
+            }
+        const BestPoint pick = best.global(comm);
+        AssertThrow(pick.found && pick.value > 1e-8, ExcInternalError());
+        // The owner broadcasts the pivot row: every vector's entry there.
+        std::vector<double> row(m, 0.0);
+        const bool          mine = best.found && best.id == pick.id;
+        const unsigned int  jp   = mine ? static_cast<unsigned int>(best.x[0]) : 0;
+        if (mine)
+          {
+            taken[jp] = 1;
+            mode_pins.push_back(jp);
+            for (unsigned int l = 0; l < m; ++l)
+              row[l] = rest[l][jp];
+          }
+        Utilities::MPI::sum(row, comm, row);
+        for (unsigned int l = i + 1; l < m; ++l)
+          {
+            const double f = row[l] / row[i];
+            for (unsigned int j = 0; j < n; ++j)
+              rest[l][j] -= f * rest[i][j];
+          }
+      }
+    pcout << "  free rigid-body motions: " << m << " (";
+    for (unsigned int i = 0; i < m; ++i)
+      pcout << (i ? ", " : "") << free_names[i];
+    pcout << "): no condition removes them and the loads leave them alone; solved with them projected out "
+             "(the displacement has no part along them)" << std::endl;
+  }
+
+  void
+  ImplicitSolver::project_free_modes(double *v) const
+  {
+    const unsigned int  m = free_basis.size(), n = unknown_dofs.size();
+    if (m == 0)
+      return;
+    std::vector<double> c(m, 0.0);
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        c[i] += free_basis[i][j] * v[j];
+    Utilities::MPI::sum(c, comm, c);
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        v[j] -= c[i] * free_basis[i][j];
   }
 
   void
   ImplicitSolver::check_supports()
   {
     check_supports(collect_unknowns());
+  }
+
+  void
+  ImplicitSolver::check_pinned_loads(const unsigned int step) const
+  {
+    if (n_pinned == 0 || !access.conditions.has_loads())
+      return;
+    // A point without bonds under a load has no quasistatic equilibrium.
+    BestPoint loaded(BestPoint::Order::largest);
+    for (unsigned int k = 0; k < pinned.size(); ++k)
+      if (pinned[k] && access.conditions.load(k) != 0)
+        loaded.consider(std::abs(access.conditions.load(k)), cloud.gid[k / dim], &cloud.X[dim * (k / dim)]);
+    const BestPoint p = loaded.global(comm);
+    AssertThrow(!p.found,
+                ExcMessage("load step " + std::to_string(step) + ": the quasistatic problem has no equilibrium: the " +
+                           p.describe() + " has no bond (no neighbor within the horizon) and carries a body force "
+                           "of " + sci(p.value) + " (per unit volume, in one component): nothing holds it against "
+                           "the load. Bond it (a larger horizon), prescribe its displacement, or use an explicit "
+                           "solver (Type = Verlet), in which it moves freely"));
   }
 
   void
@@ -141,11 +366,30 @@ namespace perideal
 
     // Which local degrees of freedom are prescribed (ghosts from their owners).
     const unsigned int n_owned = cloud.n_owned();
+    // A quasistatic solve holds the free entries of a point without bonds
+    // where they are (its rows of K are empty): identity rows as at a
+    // support, no residual; a load on one has no equilibrium (check_pinned_loads()).
+    pinned.assign(need_supports ? dim * n_owned : 0, 0);
+    n_pinned = 0;
+    if (need_supports)
+      for (unsigned int i = 0; i < n_owned; ++i)
+        if (access.discretization.bonds.offsets[i + 1] == access.discretization.bonds.offsets[i] &&
+            !state.is_virtual(dim * i))
+          for (unsigned int c = 0; c < dim; ++c)
+            if (!access.conditions.prescribed[dim * i + c])
+              {
+                pinned[dim * i + c] = 1;
+                ++n_pinned;
+              }
+    n_pinned = Utilities::MPI::sum(n_pinned, comm);
     {
       VectorType flags(cloud.vector_partitioner);
       for (const auto &c : access.conditions.constraints)
         if (!state.is_fe(c.dof))
           flags.local_element(c.dof) = 1;
+      for (unsigned int k = 0; k < pinned.size(); ++k)
+        if (pinned[k])
+          flags.local_element(k) = 1;
       flags.update_ghost_values();
       constrained_dofs.assign(dim * cloud.n_local(), 0);
       for (unsigned int k = 0; k < dim * cloud.n_local(); ++k)
@@ -153,6 +397,23 @@ namespace perideal
     }
 
     const std::vector<std::pair<Point<dim>, unsigned int>> unknowns = collect_unknowns();
+    if (need_supports)
+      {
+        check_supports(unknowns);
+        setup_free_modes(unknowns);
+        // The motions' pins are held like supports in the linear solves.
+        if (!free_names.empty())
+          {
+            VectorType flags(cloud.vector_partitioner);
+            for (unsigned int k = 0; k < dim * n_owned; ++k)
+              flags.local_element(k) = constrained_dofs[k];
+            for (const unsigned int j : mode_pins)
+              flags.local_element(unknown_dofs[j]) = 1;
+            flags.update_ghost_values();
+            for (unsigned int k = 0; k < dim * cloud.n_local(); ++k)
+              constrained_dofs[k] = flags.local_element(k) != 0;
+          }
+      }
     const auto [centre, extent] = centre_and_extent(unknowns);
     const unsigned int n = unknowns.size();
     rigid_modes.assign(6 * n, 0.0);
@@ -162,9 +423,6 @@ namespace perideal
         for (unsigned int mode = 0; mode < 6; ++mode)
           rigid_modes[mode * n + k] = rigid_mode_value(mode, c, p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]);
       }
-    if (need_supports)
-      check_supports(unknowns);
-
     {
       TimerOutput::Scope t(timer, "implicit: sparsity");
       tangent = std::make_unique<Tangent>();
@@ -213,7 +471,7 @@ namespace perideal
         double             r = state.measure(k) * state.f(k);
         if (newmark_inertia > 0)
           r -= state.mass(k) * newmark_inertia * (state.u(k) - u_predicted[k]);
-        R[j] = held[k] ? 0 : r;
+        R[j] = held[k] || is_pinned(k) ? 0 : r;
         free += R[j] * R[j];
       }
     state.for_each([&](const MechanicalState::DoF &d) {
@@ -221,6 +479,17 @@ namespace perideal
       if (!state.is_virtual(d.number))
         all += F * F;
     });
+    if (!free_basis.empty())
+      {
+        // No part along the free motions: the loads leave them alone
+        // (check_free_mode_loads()), and what the internal forces put there
+        // (round-off; the moment of the forces about the displaced points) is
+        // no equation.
+        project_free_modes(R.data());
+        free = 0;
+        for (unsigned int j = 0; j < unknown_dofs.size(); ++j)
+          free += R[j] * R[j];
+      }
     double sums[2] = {free, all};
     Utilities::MPI::sum(ArrayView<const double>(sums, 2), comm, ArrayView<double>(sums, 2));
     force_norm = std::sqrt(sums[1]);
@@ -299,6 +568,8 @@ namespace perideal
     std::vector<double> R(n), du(n), u0(n);
     NewtonResult        result;
     double              forces = 0;
+    check_pinned_loads(step);
+    check_free_mode_loads(step);
     double              r      = residual(R, forces);
     rebuild_amg                = true; // a new solve builds its own hierarchy
     const double        r_start   = r;
@@ -317,7 +588,20 @@ namespace perideal
             break;
           }
         assemble_tangent();
-        const unsigned int linear = solve_linear(R, du);
+        unsigned int linear = 0;
+        if (free_basis.empty())
+          linear = solve_linear(R, du);
+        else
+          {
+            // K is singular along the free motions: their pins are held at 0
+            // (regular K, the same solution up to a motion: R has no part
+            // along them), then the increment's motion is projected out.
+            std::vector<double> R_held = R;
+            for (const unsigned int j : mode_pins)
+              R_held[j] = 0;
+            linear = solve_linear(R_held, du);
+            project_free_modes(du.data());
+          }
         result.linear_iterations += linear;
 
         for (unsigned int k = 0; k < n; ++k)

@@ -5,12 +5,21 @@
 // and the step is solved again while they do. No motion between load steps,
 // so no kinetic energy; the work of supports and loads is the trapezoid rule
 // over each step.
+//
+// A Solver stage after it starts with the free points at rest, or (Solver
+// stages/NAME/Velocity after quasistatic = load step) with every point at
+// the velocity of the last load step, (u_n - u_(n-1)) / dt, Peridigm's
+// hand-off: finish() sets it. The displacement at the start of the load
+// step is kept for it, and a checkpoint carries it.
 
 #include <perideal/base/format.h>
 #include <perideal/model/force_model.h>
+#include <perideal/output/checkpoint.h>
 #include <perideal/output/postprocess.h>
 #include <perideal/simulation/deck.h>
 #include <perideal/solver/implicit_solver.h>
+
+#include <deal.II/base/mpi.h>
 
 
 namespace perideal
@@ -55,6 +64,10 @@ namespace perideal
       {
         return true;
       }
+      void
+      save_state(CheckpointWriter &out) const override;
+      void
+      load_state(CheckpointReader &in) override;
 
     private:
       void
@@ -63,9 +76,13 @@ namespace perideal
       do_load_step();
       void
       finish();
+      /// Before the next Solver stage: its starting velocity.
+      void
+      hand_off();
 
       unsigned int n_steps = 0, step = 0;
       double       t0 = 0, t1 = 0, dt_load = 0;
+      std::vector<double> u_step_start; // per DoF: u at the start of the load step
     };
 
     void
@@ -104,6 +121,10 @@ namespace perideal
       ConditionSet    &conditions = access->conditions;
       const double     time       = t0 + step * dt_load;
       access->pcout << "Load step " << step << "/" << n_steps << ", t = " << sci(time, 6) << std::endl;
+      MechanicalState &state = access->state;
+      u_step_start.resize(state.size());
+      for (unsigned int k = 0; k < state.size(); ++k)
+        u_step_start[k] = state.u(k);
       advance(
         step, t0 + (step - 1) * dt_load, time, dt_load, n_steps,
         [&](const double t, const double dt) {
@@ -120,6 +141,55 @@ namespace perideal
     }
 
     void
+    QuasiStatic::save_state(CheckpointWriter &out) const
+    {
+      ImplicitIntegrator::save_state(out);
+      out.section("quasistatic");
+      out.put(u_step_start);
+    }
+
+    void
+    QuasiStatic::load_state(CheckpointReader &in)
+    {
+      ImplicitIntegrator::load_state(in);
+      in.section("quasistatic");
+      in.get(u_step_start);
+      in.expect(u_step_start.size() == access->state.size(),
+                "the displacement at the start of the load step has " + std::to_string(u_step_start.size()) +
+                  " entries on this rank, the state " + std::to_string(access->state.size()));
+    }
+
+    void
+    QuasiStatic::hand_off()
+    {
+      // The stage after this solver, if any, and what it starts with: the
+      // free entries are at rest now (set_velocity_zero() each step), the
+      // prescribed ones at their condition's rate.
+      if (access->last_stage || u_step_start.size() != access->state.size())
+        return;
+      const SolverStage &next = access->deck.stages[access->stage];
+      if (!next.velocity_of_load_step)
+        return;
+      MechanicalState                 &state = access->state;
+      const std::vector<std::uint8_t> &held  = access->conditions.prescribed;
+      double                           kinetic = 0;
+      for (unsigned int k = 0; k < state.size(); ++k)
+        if (!held[k])
+          {
+            state.v(k) = (state.u(k) - u_step_start[k]) / dt_load;
+            kinetic += 0.5 * state.mass(k) * state.v(k) * state.v(k);
+          }
+      state.distribute_velocity();
+      state.velocity.update_ghost_values();
+      kinetic = Utilities::MPI::sum(kinetic, access->comm);
+      // Energy put in by the hand-off: the next solver's balance counts it.
+      access->record.initial_energy += kinetic;
+      access->pcout << "\nSolver stages/" << next.name << " starts at the velocity of the last load step, (u_n - "
+                    << "u_(n-1)) / dt (Velocity after quasistatic = load step): kinetic energy " << sci(kinetic, 6)
+                    << std::endl;
+    }
+
+    void
     QuasiStatic::finish()
     {
       finished_steps = n_steps;
@@ -133,6 +203,7 @@ namespace perideal
                     << " Newton iterations, " << total_linear << " " << access->deck.solver.implicit.linear_solver
                     << " iterations in " << sci(seconds, 4) << " s" << std::endl;
       post.print_summary(seconds, n_steps);
+      hand_off();
     }
   } // namespace
 

@@ -108,7 +108,8 @@ namespace perideal
   free_rigid_modes(const std::vector<std::pair<Point<3>, unsigned int>> &prescribed,
                    const std::array<double, 3>                          &centre,
                    const double                                          extent_,
-                   const MPI_Comm                                        comm)
+                   const MPI_Comm                                        comm,
+                   std::vector<std::array<double, 6>>                   *modes)
   {
     const double extent = extent_ > 0 ? extent_ : 1.0;
     // The Gram matrix of the constraints over the modes, rotations scaled by
@@ -140,6 +141,12 @@ namespace perideal
         {
           free_coordinate[m] = true;
           result.emplace_back(name[m]);
+          if (modes)
+            {
+              std::array<double, 6> e{};
+              e[m] = 1;
+              modes->push_back(e);
+            }
         }
 
     // Free combinations: the eigenvectors of the Gram matrix with (nearly)
@@ -187,6 +194,8 @@ namespace perideal
           x /= norm;
         named.push_back(mode);
         result.push_back(describe(mode, centre, extent));
+        if (modes)
+          modes->push_back(mode);
       }
     return result;
   }

@@ -90,6 +90,9 @@ namespace perideal
     std::vector<std::uint8_t>     initially_broken;     // per bond: 1 if it starts broken; empty without initial damage
     std::vector<std::size_t>      initially_broken_bonds; // per initial damage entry: directed bonds it broke (all ranks)
     double                        unbalanced_bonds = 0; // % above the mean before rebalancing, 0: not needed
+    /// What setup() found suspicious but legal (points without a neighbor),
+    /// for the run's warnings.
+    std::vector<std::string>      setup_warnings;
     // Continuum runs: the PD energy weight per owned point, 1 - alpha per
     // active FE cell, and per active cell 1 + its virtual point levels (0: none).
     std::vector<double>        point_alpha;
@@ -124,9 +127,13 @@ namespace perideal
     /// (initially_broken); counts them per entry. Collective.
     void
     apply_initial_damage();
-    /// A point without a neighbor cannot carry load: stops naming the first.
+    /// Points without a neighbor (outside contact and rigid blocks): a
+    /// warning with how many and the first (each moves freely under its
+    /// conditions, as in Peridigm); an Error if every point of the body is
+    /// one (a horizon below the spacing everywhere: no bond at all).
+    /// Collective.
     void
-    check_isolated_points() const;
+    check_isolated_points();
     /// The point cloud of a run with continuum blocks: PD points and the
     /// virtual points of the FE cells within reach of them, with alpha (PD
     /// energy weight) per point and 1 - alpha per FE cell from the distance

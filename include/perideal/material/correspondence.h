@@ -322,6 +322,22 @@ namespace perideal
       std::size_t   newly_broken = 0;
       for (const unsigned int i : points)
         {
+          if (fam.offsets[i] == fam.offsets[i + 1])
+            {
+              // A point without bonds (no neighbor within the horizon: it
+              // moves freely) has no deformation gradient: F = I, no stress.
+              for (unsigned int k = 0; k < 9; ++k)
+                {
+                  Fs[9 * i + k]    = k % 4 == 0 ? 1.0 : 0.0;
+                  PK[9 * i + k]    = 0;
+                  sigma[9 * i + k] = 0;
+                }
+              vm[i] = 0;
+              Wf[i] = 0;
+              if (live)
+                live[i] = 0;
+              continue;
+            }
           const BondOrigin origin(fam.X, fam.u, i);
           double           N[9] = {}, Ks[6] = {};
           for (std::size_t b = fam.offsets[i]; b < fam.offsets[i + 1]; ++b)

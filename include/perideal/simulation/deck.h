@@ -67,6 +67,10 @@ namespace perideal
     SolverParameters                solver; // initial_time: set when the stage starts
     std::unique_ptr<TimeIntegrator> integrator;
     int output_frequency = -1, globals_frequency = -1; // -1: Output's
+    /// After a QuasiStatic solver: whether this stage starts with the
+    /// velocity of its last load step, (u_n - u_{n-1}) / dt (Peridigm's
+    /// hand-off), or with the free points at rest (Velocity after quasistatic).
+    bool velocity_of_load_step = false;
   };
 
   /// Coupling with continuum blocks (doc/coupling.md).

@@ -79,6 +79,40 @@ namespace perideal
     centre_and_extent(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns) const;
     void
     check_supports(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns) const;
+    /// Quasistatic: an Error if a point without bonds (pinned) carries a
+    /// load at the current time. Collective.
+    void
+    check_pinned_loads(const unsigned int step) const;
+    /// Quasistatic with free rigid-body motions (no condition removes
+    /// them): their names, their vectors over the unknowns, an orthonormal
+    /// basis of them, and one pinned unknown per motion that makes K
+    /// regular (mode_pins). Collective.
+    void
+    setup_free_modes(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns);
+    /// Motion @p mode (free_rigid_modes()' coefficients) over @p unknowns,
+    /// zero at prescribed and pinned entries.
+    std::vector<double>
+    free_mode_vector(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &unknowns,
+                     const std::array<double, 3> &centre, const double extent, const std::array<double, 6> &mode) const;
+    /// An Error naming the motions if the current loads push the body along
+    /// one of @p named (more than free_mode_tolerance of their norm);
+    /// @p when says when. Collective.
+    void
+    check_free_mode_loads(const std::vector<std::string> &names, const std::vector<std::vector<double>> &named,
+                          const std::string &when) const;
+    /// The same for the solver's free motions at load step @p step.
+    void
+    check_free_mode_loads(const unsigned int step) const;
+    /// v -= Z Z^T v over the unknowns: no part along the free motions. Collective.
+    void
+    project_free_modes(double *v) const;
+    /// Whether DoF @p k is a free entry of a point without bonds that a
+    /// quasistatic solve holds where it is.
+    bool
+    is_pinned(const unsigned int k) const
+    {
+      return k < pinned.size() && pinned[k];
+    }
     NewtonResult
     solve_newton(const unsigned int step);
     /// R = V (f + b) - M a on the free DoFs of the current displacement;
@@ -119,6 +153,14 @@ namespace perideal
     std::unique_ptr<CoupledTangent> coupled_tangent; // with continuum blocks
     bool                            symmetry_reported = false;
     std::vector<std::uint8_t>       constrained_dofs; // per local point entry, ghosts too
+    std::vector<std::uint8_t>       pinned;   // quasistatic: per owned point entry, 1 at the free entries of a point without bonds
+    unsigned int                    n_pinned = 0; // pinned entries over all ranks
+    // Quasistatic free rigid-body motions (empty: none): each named one over
+    // the unknowns, an orthonormal basis of them, and per motion the local
+    // unknown held at 0 in each linear solve (on the rank that owns it).
+    std::vector<std::string>         free_names;
+    std::vector<std::vector<double>> free_named, free_basis;
+    std::vector<unsigned int>        mode_pins;
     // The unknowns, by DoF number: every point entry (prescribed ones get
     // identity rows), or with continuum blocks the free DoFs of
     // coupled_tangent.h (real points' entries, then FE DoFs).

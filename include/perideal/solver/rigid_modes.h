@@ -34,9 +34,14 @@ namespace perideal
   /// @p centre, for a body of half-size @p extent; empty if none.
   /// E.g. "translation in y", "rotation about the axis through (0.5, 0.125,
   /// 0.125) along (1, 0, 0)".
+  /// With @p modes: each named motion's coefficients over the six
+  /// coordinate modes, rotations divided by @p extent (u = sum_m c_m
+  /// rigid_mode_value(m, ...) / (m < 3 ? 1 : extent)), unit length, in the
+  /// order of the names.
   std::vector<std::string>
   free_rigid_modes(const std::vector<std::pair<dealii::Point<3>, unsigned int>> &prescribed,
                    const std::array<double, 3>                                  &centre,
                    const double                                                  extent,
-                   const MPI_Comm                                                comm);
+                   const MPI_Comm                                                comm,
+                   std::vector<std::array<double, 6>>                           *modes = nullptr);
 } // namespace perideal
