@@ -2628,6 +2628,9 @@ class Converter:
                 self.warn(k, "neither Fixed dt nor Safety Factor: PeriDeal's default Safety factor 0.8 applies")
         elif kind in ("QuasiStatic", "NOXQuasiStatic"):
             out.set("Type", "QuasiStatic", "Peridigm's %s: Newton's method per load step." % kind)
+            out.sub("QuasiStatic").set("Velocity", "load step",
+                                       "Peridigm's velocity of a load step, (u_n - u_(n-1)) / dt, in the output\n"
+                                       "(PeriDeal's default, rest, writes 0).")
             if t0 is not None and not stage:
                 out.set("Initial time", t0)
             if t1 is not None:
@@ -2763,6 +2766,7 @@ class Converter:
             st = stages.sub(stage_name)
             st.comment("Peridigm's Time Steps of %s: run %d of equal load steps." % (solver, i))
             st.set("Type", "QuasiStatic")
+            st.sub("QuasiStatic").set("Velocity", "load step")
             st.set("Final time", end)
             st.set("Number of steps", n)
             st.items.append(("sub", copy.deepcopy(imp)))

@@ -6,11 +6,15 @@
 // so no kinetic energy; the work of supports and loads is the trapezoid rule
 // over each step.
 //
-// A Solver stage after it starts with the free points at rest, or (Solver
+// The points are at rest between load steps (Solver/QuasiStatic/Velocity =
+// rest), or (= load step, as Peridigm's QuasiStatic stores and writes it)
+// each free point at the velocity of its load step, (u_n - u_(n-1)) / dt;
+// the summary's energy balance counts no kinetic energy either way. A Solver
+// stage after it starts with the free points at rest, or (Solver
 // stages/NAME/Velocity after quasistatic = load step) with every point at
-// the velocity of the last load step, (u_n - u_(n-1)) / dt, Peridigm's
-// hand-off: finish() sets it. The displacement at the start of the load
-// step is kept for it, and a checkpoint carries it.
+// the velocity of the last load step, Peridigm's hand-off: finish() sets it.
+// The displacement at the start of the load step is kept for both, and a
+// checkpoint carries it.
 
 #include <perideal/base/format.h>
 #include <perideal/model/force_model.h>
@@ -32,8 +36,26 @@ namespace perideal
     {
     public:
       static void
-      declare_parameters(ParameterHandler &)
-      {}
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.enter_subsection("QuasiStatic");
+        prm.declare_entry("Velocity", "rest", Patterns::Selection("rest|load step"),
+                          "The points' velocity in the load steps. rest: none (the load steps are a "
+                          "pseudo-time without motion). load step: after each load step every free point "
+                          "at (u_n - u_(n-1)) / dt, dt the load step's length, as Peridigm's QuasiStatic "
+                          "stores and writes it: in the field files (Velocity) and the globals' "
+                          "kinetic_energy. The summary's energy balance counts no kinetic energy either way; "
+                          "the converter writes load step.");
+        prm.leave_subsection();
+      }
+
+      void
+      parse_parameters(ParameterHandler &prm) override
+      {
+        prm.enter_subsection("QuasiStatic");
+        velocity_of_load_steps = prm.get("Velocity") == "load step";
+        prm.leave_subsection();
+      }
 
       void
       check_parameters(const SolverParameters &solver, const bool has_continuum) const override
@@ -79,10 +101,16 @@ namespace perideal
       /// Before the next Solver stage: its starting velocity.
       void
       hand_off();
+      /// Every free entry (and the prescribed ones too if @p held_too) at
+      /// (u - u_step_start) / dt_load; returns the kinetic energy that
+      /// gives (all ranks).
+      double
+      set_load_step_velocity(const bool held_too);
 
       unsigned int n_steps = 0, step = 0;
       double       t0 = 0, t1 = 0, dt_load = 0;
       std::vector<double> u_step_start; // per DoF: u at the start of the load step
+      bool                velocity_of_load_steps = false; // Velocity = load step
     };
 
     void
@@ -137,7 +165,13 @@ namespace perideal
             conditions.evaluate_loads(t);
           conditions.check_condition_values(conditions.first_nonfinite_condition(t), t);
         },
-        [](double) {});
+        [&](double) {
+          // After each sub-step: the last one's is the load step's.
+          // Peridigm's QuasiStatic gives every point, prescribed or not, its
+          // load step's difference quotient.
+          if (velocity_of_load_steps)
+            set_load_step_velocity(true);
+        });
     }
 
     void
@@ -170,23 +204,29 @@ namespace perideal
       const SolverStage &next = access->deck.stages[access->stage];
       if (!next.velocity_of_load_step)
         return;
-      MechanicalState                 &state = access->state;
-      const std::vector<std::uint8_t> &held  = access->conditions.prescribed;
+      const double kinetic = set_load_step_velocity(false);
+      // Energy put in by the hand-off: the next solver's balance counts it.
+      access->record.initial_energy += kinetic;
+      access->pcout << "\nSolver stages/" << next.name << " starts at the velocity of the last load step, (u_n - "
+                    << "u_(n-1)) / dt (Velocity after quasistatic = load step): kinetic energy " << sci(kinetic, 6)
+                    << std::endl;
+    }
+
+    double
+    QuasiStatic::set_load_step_velocity(const bool held_too)
+    {
+      MechanicalState                 &state   = access->state;
+      const std::vector<std::uint8_t> &held    = access->conditions.prescribed;
       double                           kinetic = 0;
       for (unsigned int k = 0; k < state.size(); ++k)
-        if (!held[k])
+        if (held_too || !held[k])
           {
             state.v(k) = (state.u(k) - u_step_start[k]) / dt_load;
             kinetic += 0.5 * state.mass(k) * state.v(k) * state.v(k);
           }
       state.distribute_velocity();
       state.velocity.update_ghost_values();
-      kinetic = Utilities::MPI::sum(kinetic, access->comm);
-      // Energy put in by the hand-off: the next solver's balance counts it.
-      access->record.initial_energy += kinetic;
-      access->pcout << "\nSolver stages/" << next.name << " starts at the velocity of the last load step, (u_n - "
-                    << "u_(n-1)) / dt (Velocity after quasistatic = load step): kinetic energy " << sci(kinetic, 6)
-                    << std::endl;
+      return Utilities::MPI::sum(kinetic, access->comm);
     }
 
     void
@@ -199,6 +239,10 @@ namespace perideal
       // The energy balance needs the final strain energy.
       if (!post.output.is_output_step(n_steps, n_steps))
         post.global_quantities(n_steps, t1);
+      // A load step's velocity (Velocity = load step) is no motion: no
+      // kinetic energy in the balance.
+      if (velocity_of_load_steps)
+        access->record.last_kinetic_energy = 0;
       access->pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
                     << " Newton iterations, " << total_linear << " " << access->deck.solver.implicit.linear_solver
                     << " iterations in " << sci(seconds, 4) << " s" << std::endl;
