@@ -24,8 +24,9 @@ namespace perideal
   namespace
   {
     // 2: checkpoint.txt ends with the CRC-32 of the text before it (format 1,
-    // without it, is not read).
-    constexpr unsigned int format_version = 2;
+    // without it, is not read). 3: the output series holds the Exodus
+    // file's, a quasistatic solver its load step's start (issue 42).
+    constexpr unsigned int format_version = 3;
     const std::string      marker         = "PeriDeal checkpoint ";
 
     std::string
