@@ -2,7 +2,7 @@
 # PeriDeal's one set-up entry point.
 #
 #   ./setup.sh run    install what is missing, build pd_app, run the default example
-#   ./setup.sh test   install what is missing, build everything, run the test suite (ctest)
+#   ./setup.sh test   install what is missing, build everything, run the test suite (ctest -j nproc)
 #
 # Installs Debian packages with apt-get (with sudo when not root) only when
 # some are missing, configures build/ (CMake, Release) and builds with all
@@ -75,7 +75,9 @@ case "${1:-}" in
     install_missing
     configure_and_build
     cd "$build"
-    ctest --output-on-failure
+    # Each test's PROCESSORS property is its rank count: ctest -j runs a
+    # 2-rank test alone on 2 cores, 1-rank tests side by side.
+    ctest --output-on-failure -j "$jobs"
     ;;
   -h | --help | help)
     usage

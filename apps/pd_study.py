@@ -44,6 +44,12 @@ Options:
                        resolutions); exit code 1 if a value lies outside
   --pd-app PATH        default: build/pd_app of this repository
   --mpirun PATH        default: mpirun on PATH
+  --direct             1-rank runs start pd_app itself, without mpirun (as the
+                       suite's other 1-rank tests do; mpirun's start costs
+                       about 2 s a run on a loaded machine)
+  --jobs N             up to N ranks at once: N 1-rank runs side by side, a
+                       2-rank run on 2 (default 1; the process times of runs
+                       side by side include their contention)
   --lock FILE          run each pd_app under a shared flock of FILE (a shared build tree:
                        --lock /tmp/perideal-build.lock)
   --work DIR           where the runs go (default build/verification)
@@ -67,6 +73,7 @@ build tree pass --lock /tmp/perideal-build.lock (each run under a shared lock).
 """
 
 import argparse
+import concurrent.futures
 import csv
 import fcntl
 import math
@@ -194,6 +201,8 @@ def run_case(args, scene, case, np_):
         text = override(text, fill(None, case["values"], a))
     open(os.path.join(d, "params.prm"), "w").write(text)
     cmd = [args.mpirun, "-np", str(np_), args.pd_app, "params.prm"]
+    if np_ == 1 and args.direct:
+        cmd = [args.pd_app, "params.prm"]
     for attempt in range(6):
         # A shared lock: nobody rebuilds pd_app during the run, others may
         # run too. Taken before the clock starts, so waiting is not timed.
@@ -877,6 +886,8 @@ def main():
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--pd-app", default=os.path.join(ROOT, "build", "pd_app"))
     ap.add_argument("--mpirun", default=shutil.which("mpirun") or "mpirun")
+    ap.add_argument("--direct", action="store_true")
+    ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--lock", default="")
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "verification"))
     ap.add_argument("--results", default=TEMPLATES)
@@ -922,6 +933,7 @@ def main():
         return re.search(r"^\s*set %s\s*=" % re.escape(key), known, re.M) is not None
 
     rows, failures = [], 0
+    todo = []
     for seq in args.seq.split(","):
         for v in variants:
             missing = [a for a in scene.variants[v][0] + args.set if not a.startswith("@") and not key_known(a)]
@@ -930,25 +942,33 @@ def main():
                 # A check (ctest) must not pass on what it did not run.
                 failures += bool(args.check)
                 continue
-            for case in cases(args, scene, seq, v):
-                results = [run_case(args, scene, case, n) for n in nps]
-                r0 = results[0]
-                for n, r in zip(nps[1:], results[1:]):
-                    for (name, a, is_err), (_, b, _) in zip(r0["measures"], r["measures"]):
-                        if is_err and abs(a - b) > 1e-7 * max(1.0, abs(a)):
-                            print("FAIL %s res %s: %s on %d ranks %r, on %d ranks %r" % (case["series"], case["res"], name,
-                                                                                       nps[0], a, n, b))
-                            failures += 1
-                row = dict(series=case["series"], seq=seq, variant=v, res=case["res"], h=case["h"], delta=case["delta"],
-                           m=case["delta"] / case["h"], points=r0["points"], bonds=r0["bonds"], wall=r0["wall"],
-                           process=r0["process"],
-                           order=[m[0] for m in r0["measures"]], errors=[m[0] for m in r0["measures"] if m[2]])
-                for name, val, _ in r0["measures"]:
-                    row[name] = val
-                rows.append(row)
-                print("pd_study: %s %-16s res %-3s points %-7d bonds %-9d wall %-7s %s" % (
-                    scene.name, case["series"], case["res"], row["points"], row["bonds"], fmt(row["process"], 3),
-                    "  ".join("%s %s" % (m[0], fmt(m[1], 4)) for m in r0["measures"])), flush=True)
+            todo += [(seq, v, case) for case in cases(args, scene, seq, v)]
+    # Every run first (--jobs ranks at once), then the rows in order.
+    done = {}
+    for n in nps:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs // n)) as pool:
+            futures = [(i, pool.submit(run_case, args, scene, case, n)) for i, (_, _, case) in enumerate(todo)]
+            for i, f in futures:
+                done[i, n] = f.result()
+    for i, (seq, v, case) in enumerate(todo):
+        results = [done[i, n] for n in nps]
+        r0 = results[0]
+        for n, r in zip(nps[1:], results[1:]):
+            for (name, a, is_err), (_, b, _) in zip(r0["measures"], r["measures"]):
+                if is_err and abs(a - b) > 1e-7 * max(1.0, abs(a)):
+                    print("FAIL %s res %s: %s on %d ranks %r, on %d ranks %r" % (case["series"], case["res"], name,
+                                                                               nps[0], a, n, b))
+                    failures += 1
+        row = dict(series=case["series"], seq=seq, variant=v, res=case["res"], h=case["h"], delta=case["delta"],
+                   m=case["delta"] / case["h"], points=r0["points"], bonds=r0["bonds"], wall=r0["wall"],
+                   process=r0["process"],
+                   order=[m[0] for m in r0["measures"]], errors=[m[0] for m in r0["measures"] if m[2]])
+        for name, val, _ in r0["measures"]:
+            row[name] = val
+        rows.append(row)
+        print("pd_study: %s %-16s res %-3s points %-7d bonds %-9d wall %-7s %s" % (
+            scene.name, case["series"], case["res"], row["points"], row["bonds"], fmt(row["process"], 3),
+            "  ".join("%s %s" % (m[0], fmt(m[1], 4)) for m in r0["measures"])), flush=True)
     if not rows:
         raise SystemExit("pd_study: nothing was run")
     add_rates(rows)
