@@ -190,24 +190,30 @@ def prm_sections(text):
     return out
 
 
-def prm_get(text, section, key):
-    """The value of 'set KEY = ...' directly in a top-level SECTION, or None."""
-    secs = prm_sections(text)
-    if section not in secs:
-        return None
-    lines = text.split("\n")
-    a, b = secs[section]
+def section_lines(lines, a, b):
+    """(line, key) for each line inside the top-level section spanning lines
+    A to B: KEY the name of a 'set KEY = ...' directly in it, else None."""
     depth = 0
     for line in lines[a + 1:b]:
         s = line.split("#", 1)[0].strip()
+        key = None
         if s.startswith("subsection "):
             depth += 1
         elif s == "end":
             depth -= 1
         elif depth == 0 and s.startswith("set "):
-            k, _, v = s[4:].partition("=")
-            if k.strip() == key:
-                return v.strip()
+            key = s[4:].partition("=")[0].strip()
+        yield line, key
+
+
+def prm_get(text, section, key):
+    """The value of 'set KEY = ...' directly in a top-level SECTION, or None."""
+    secs = prm_sections(text)
+    if section not in secs:
+        return None
+    for line, k in section_lines(text.split("\n"), *secs[section]):
+        if k == key:
+            return line.split("#", 1)[0].partition("=")[2].strip()
     return None
 
 
@@ -294,19 +300,8 @@ def prm_for_comparison(text, wanted_fields):
             fields.append(f)
     lines = text.split("\n")
     a, b = secs["Output"]
-    keep = []
-    depth = 0
-    for line in lines[a + 1:b]:
-        s = line.split("#", 1)[0].strip()
-        if s.startswith("subsection "):
-            depth += 1
-        elif s == "end":
-            depth -= 1
-        elif depth == 0 and s.startswith("set "):
-            k = s[4:].partition("=")[0].strip()
-            if k in ("Variables", "Field format", "Field precision", "Directory"):
-                continue
-        keep.append(line)
+    keep = [line for line, k in section_lines(lines, a, b)
+            if k not in ("Variables", "Field format", "Field precision", "Directory")]
     ours = ["  # compare_gold.py: the fields at the deck's output steps, in double precision.",
             "  set Directory       = output",
             "  set Field format    = hdf5",

@@ -402,24 +402,31 @@ namespace perideal
             out.check(ex_put_var(out.id, step, EX_GLOBAL, 1, 0, global_values.size(), global_values.data()),
                       "the global variables");
         }
-      std::vector<double>                  values;
-      std::vector<types::global_dof_index> dofs;
-      int                                  index = 0;
+      // Each node's DoF of each component, once for every vector field: a
+      // point's is its cell's one DoF per component, a continuum vertex's
+      // the vertex's (FE_Q numbers its vertex DoFs first).
+      std::vector<types::global_dof_index> node_dofs, dofs;
+      if (!vector_fields.empty())
+        for (const auto &[cell, v] : local.node_source)
+          {
+            const FiniteElement<3> &fe = cell->get_fe();
+            dofs.resize(fe.n_dofs_per_cell());
+            cell->get_dof_indices(dofs);
+            for (unsigned int d = 0; d < 3; ++d)
+              node_dofs.push_back(dofs.empty() ? numbers::invalid_dof_index :
+                                                 dofs[fe.component_to_system_index(d, fe.degree == 0 ? 0 : v)]);
+          }
+      std::vector<double> values;
+      int                 index = 0;
       for (const auto &[name, vector] : vector_fields)
         for (unsigned int d = 0; d < 3; ++d)
           {
             ++index;
             values.clear();
-            // A point's value is its cell's one DoF per component; a
-            // continuum vertex's, the vertex's DoF (FE_Q numbers its vertex
-            // DoFs first).
-            for (const auto &[cell, v] : local.node_source)
+            for (std::int64_t n = 0; n < n_local; ++n)
               {
-                const FiniteElement<3> &fe = cell->get_fe();
-                dofs.resize(fe.n_dofs_per_cell());
-                cell->get_dof_indices(dofs);
-                values.push_back(dofs.empty() ? 0.0 :
-                                                (*vector)(dofs[fe.component_to_system_index(d, fe.degree == 0 ? 0 : v)]));
+                const types::global_dof_index dof = node_dofs[3 * n + d];
+                values.push_back(dof == numbers::invalid_dof_index ? 0.0 : (*vector)(dof));
               }
             if (n_local > 0)
               out.check(ex_put_partial_var(out.id, step, EX_NODAL, index, 1, range.first_node + 1, n_local, values.data()),

@@ -320,22 +320,26 @@ namespace perideal
       double       *live  = stabilization != 0 ? state.fields.get("corr_live").begin() : nullptr;
       const double *eps_T = state.thermal_strain; // alpha dT per point, or nullptr
       std::size_t   newly_broken = 0;
+      // A point whose family does not span space: F = I, no stress, no stabilization.
+      const auto without_stress = [&](const unsigned int i) {
+        for (unsigned int k = 0; k < 9; ++k)
+          {
+            Fs[9 * i + k]    = k % 4 == 0 ? 1.0 : 0.0;
+            PK[9 * i + k]    = 0;
+            sigma[9 * i + k] = 0;
+          }
+        vm[i] = 0;
+        Wf[i] = 0;
+        if (live)
+          live[i] = 0;
+      };
       for (const unsigned int i : points)
         {
           if (fam.offsets[i] == fam.offsets[i + 1])
             {
               // A point without bonds (no neighbor within the horizon: it
-              // moves freely) has no deformation gradient: F = I, no stress.
-              for (unsigned int k = 0; k < 9; ++k)
-                {
-                  Fs[9 * i + k]    = k % 4 == 0 ? 1.0 : 0.0;
-                  PK[9 * i + k]    = 0;
-                  sigma[9 * i + k] = 0;
-                }
-              vm[i] = 0;
-              Wf[i] = 0;
-              if (live)
-                live[i] = 0;
+              // moves freely) has no deformation gradient.
+              without_stress(i);
               continue;
             }
           const BondOrigin origin(fam.X, fam.u, i);
@@ -366,16 +370,7 @@ namespace perideal
               if (!invert_shape(Ks, Kinv_d))
                 {
                   // The damaged family no longer spans space: no stress, no stabilization.
-                  for (unsigned int k = 0; k < 9; ++k)
-                    {
-                      Fs[9 * i + k]    = k % 4 == 0 ? 1.0 : 0.0;
-                      PK[9 * i + k]    = 0;
-                      sigma[9 * i + k] = 0;
-                    }
-                  vm[i] = 0;
-                  Wf[i] = 0;
-                  if (live)
-                    live[i] = 0;
+                  without_stress(i);
                   degenerate(i);
                   continue;
                 }
