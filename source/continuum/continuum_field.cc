@@ -132,11 +132,14 @@ namespace perideal
   }
 
   void
-  ContinuumField::compute_force(const std::vector<double> &f_virtual)
+  ContinuumField::compute_force(const std::vector<double> &f_virtual, const bool transpose)
   {
     F = 0;
-    Pi.add_transpose(f_virtual, F);
-    F.compress(VectorOperation::add);
+    if (transpose)
+      {
+        Pi.add_transpose(f_virtual, F);
+        F.compress(VectorOperation::add);
+      }
     K.vmult(KU, U);
     const unsigned int n = partitioner->locally_owned_size();
     for (unsigned int k = 0; k < n; ++k)

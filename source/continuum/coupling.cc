@@ -35,6 +35,21 @@ namespace perideal
     node_density.resize(continuum.nodes.size());
     for (unsigned int k = 0; k < continuum.nodes.size(); ++k)
       node_density[k] = blocks[discretization.block_of_cell(continuum.nodes[k].cell)].continuum_model->density();
+
+    force_blending = discretization.force_blending;
+    node_points.clear();
+    const IndexSet &owned = discretization.dof_handler.locally_owned_dofs();
+    for (unsigned int k = 0; k < discretization.node_points.size(); ++k)
+      {
+        NodePoint          p;
+        const unsigned int i = discretization.node_points[k];
+        p.point              = i;
+        p.alpha              = discretization.node_point_alpha[k];
+        for (unsigned int d = 0; d < dim; ++d)
+          p.dof[d] = owned.index_within_set(discretization.node_point_dofs[dim * k + d]);
+        p.volume = continuum.mass.local_element(p.dof[0]) / blocks[cloud.block[i]].continuum_model->density();
+        node_points.push_back(p);
+      }
   }
 
   void
@@ -50,6 +65,21 @@ namespace perideal
   void
   Coupling::transfer_forces(const PointCloud &cloud, const VectorType &force)
   {
+    if (force_blending)
+      {
+        continuum.compute_force({}, false);
+        // Loads (body force, traction) act in full; the PD force density at
+        // a node point has none of them.
+        const bool loaded = continuum.load.size() > 0;
+        for (const NodePoint &p : node_points)
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              const double load = loaded ? continuum.load.local_element(p.dof[d]) : 0.0;
+              double      &F    = continuum.F.local_element(p.dof[d]);
+              F = (1 - p.alpha) * (F - load) + p.alpha * p.volume * force.local_element(dim * p.point + d) + load;
+            }
+        return;
+      }
     for (unsigned int k = 0; k < virtual_points.size(); ++k)
       for (unsigned int d = 0; d < dim; ++d)
         f_virtual[dim * k + d] = cloud.volume[virtual_points[k]] * force.local_element(dim * virtual_points[k] + d);

@@ -1,6 +1,7 @@
 // The mesh, DoFs, point cloud and bonds (discretization.h).
 
 #include <perideal/base/best_point.h>
+#include <perideal/base/expression.h>
 #include <perideal/base/format.h>
 #include <perideal/discretization/discretization.h>
 #include <perideal/discretization/size_estimate.h>
@@ -8,15 +9,20 @@
 #include <perideal/neighborhood/partial_volumes.h>
 #include <perideal/simulation/deck.h>
 
+#include <deal.II/base/bounding_box.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/mpi.templates.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_dgq.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/numerics/rtree.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <set>
 
 namespace perideal
@@ -33,6 +39,7 @@ namespace perideal
     , blocks(deck.blocks)
     , contact(deck.contact)
     , has_continuum(deck.has_continuum)
+    , force_blending(deck.has_continuum && deck.coupling.scheme == CouplingParameters::Scheme::force)
     , triangulation(comm)
     , fe(FESystem<dim>(FE_DGQ<dim>(0), dim), FESystem<dim>(FE_Q<dim>(1), dim), FESystem<dim>(FE_Q<dim>(2), dim))
     , dof_handler(triangulation)
@@ -332,7 +339,7 @@ namespace perideal
         }
       if (!bond_filters.empty())
         apply_bond_filters();
-      if (has_continuum)
+      if (has_continuum && !force_blending)
         drop_unweighted_bonds();
       if (!initial_damage.empty())
         apply_initial_damage();
@@ -492,15 +499,16 @@ namespace perideal
       if (cell->is_locally_owned() && cell->active_fe_index() > 0)
         largest_cell = std::max(largest_cell, cell->diameter());
     largest_cell         = Utilities::MPI::max(largest_cell, comm);
-    const int probe      = blocks.size();
-    const double reach   = (1 + blending_width) * max_horizon + largest_cell;
+    // Force blending's virtual points reach a horizon further (below).
+    const int    probe = blocks.size();
+    const double reach = (1 + blending_width + (force_blending ? 1 : 0)) * max_horizon + largest_cell;
     PointCloud   nearby;
     nearby.build(dof_handler,
                  [&](const CellIterator &cell) -> int {
                    const int b = block_of(cell);
                    return b < 0 ? -1 : blocks[b].continuum ? probe : b;
                  },
-                 reach, comm);
+                 reach, comm, {}, force_blending);
     std::vector<std::pair<Point<dim>, unsigned int>> pd;
     for (unsigned int i = 0; i < nearby.n_local(); ++i)
       if (nearby.block[i] != probe)
@@ -533,10 +541,15 @@ namespace perideal
       if (cell->is_locally_owned() && cell->active_fe_index() > 0)
         {
           const Nearest n = nearest(cell->center());
-          cell_fe_weight[cell->active_cell_index()] = 1 - alpha(n);
+          // Force blending weights forces, not the FE energy.
+          cell_fe_weight[cell->active_cell_index()] = force_blending ? 1 : 1 - alpha(n);
           // Virtual points serve up to a horizon beyond the band, at about
-          // the nearest PD point's spacing (auto levels).
-          if (n.distance - 0.5 * cell->diameter() <= (n.band + n.horizon) * (1 + 1e-9))
+          // the nearest PD point's spacing (auto levels). Force blending
+          // evaluates the PD force at the band's nodes, and the neighbors in
+          // their families need complete families of their own (an LPS
+          // dilatation, a correspondence deformation gradient): two horizons.
+          const double serves = n.band + (force_blending ? 2 : 1) * n.horizon;
+          if (n.distance - 0.5 * cell->diameter() <= serves * (1 + 1e-9))
             {
               const double ratio  = std::cbrt(cell_volume(cell) / n.volume);
               const int    levels = virtual_point_levels >= 0 ? virtual_point_levels :
@@ -554,11 +567,111 @@ namespace perideal
                 [&](const CellIterator &cell) -> unsigned int {
                   return cell->active_fe_index() > 0 ? cell_virtual[cell->active_cell_index()] - 1 : 0;
                 },
-                scene.partial_volumes);
+                scene.partial_volumes, force_blending ? make_node_points(nearby, probe, block_of, max_horizon) :
+                                                        std::vector<PointCloud::ExtraPoint>());
+    // Force blending: every point carries its full PD energy (the PD force
+    // at a PD point or a node is the unweighted one).
     point_alpha.assign(cloud.n_owned(), 1.0);
+    if (!force_blending)
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        if (blocks[cloud.block[i]].continuum)
+          point_alpha[i] = alpha(nearest(cloud.position(i)));
+    node_points.clear();
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      if (blocks[cloud.block[i]].continuum)
-        point_alpha[i] = alpha(nearest(cloud.position(i)));
+      if (cloud.is_extra(i))
+        node_points.push_back(i);
+  }
+
+  std::vector<PointCloud::ExtraPoint>
+  Discretization::make_node_points(const PointCloud &nearby, const int probe,
+                                   const std::function<int(const CellIterator &)> &block_of, const double max_horizon)
+  {
+    // The PD cells near this rank's FE cells, as boxes around their vertices.
+    std::vector<std::pair<BoundingBox<dim>, unsigned int>> pd_cells;
+    for (unsigned int i = 0; i < nearby.n_local(); ++i)
+      if (nearby.block[i] != probe)
+        {
+          std::vector<Point<dim>> v(8);
+          for (unsigned int k = 0; k < 8; ++k)
+            for (unsigned int d = 0; d < dim; ++d)
+              v[k][d] = nearby.cell_vertices[8 * dim * i + dim * k + d];
+          pd_cells.emplace_back(BoundingBox<dim>(v), i);
+        }
+    const auto tree = pack_rtree(pd_cells);
+    // A node on a PD cell's closure (distance 0 to its box, up to rounding)
+    // has an FE force from one side only: its alpha is exactly 1.
+    const auto weight = [&](const Point<dim> &x, const double size) {
+      double           nearest = std::numeric_limits<double>::max(), horizon = 0;
+      BoundingBox<dim> around(std::make_pair(x, x));
+      around.extend(blending_width * max_horizon + size);
+      for (const auto &c : tree | bgi::adaptors::queried(bgi::intersects(around)))
+        {
+          // Distance from x to the box (deal.II 9.4's BoundingBox has no distance()).
+          const auto &[lo, hi] = c.first.get_boundary_points();
+          double      d2       = 0;
+          for (unsigned int k = 0; k < dim; ++k)
+            {
+              const double out = std::max({lo[k] - x[k], x[k] - hi[k], 0.0});
+              d2 += out * out;
+            }
+          if (d2 < nearest * nearest)
+            nearest = std::sqrt(d2), horizon = blocks[nearby.block[c.second]].horizon;
+        }
+      if (nearest <= 1e-9 * size)
+        return 1.0;
+      return blending_width > 0 && nearest < std::numeric_limits<double>::max() ?
+               std::max(0.0, 1 - nearest / (blending_width * horizon)) :
+               0.0;
+    };
+
+    AffineConstraints<double> hanging;
+    IndexSet                  relevant;
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    hanging.reinit(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging);
+    hanging.close();
+    const IndexSet                      &owned = dof_handler.locally_owned_dofs();
+    std::set<types::global_dof_index>    done;
+    std::vector<types::global_dof_index> dofs;
+    const MappingQ1<dim>                 mapping;
+    std::vector<PointCloud::ExtraPoint>  points;
+    node_point_dofs.clear();
+    node_point_alpha.clear();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0 && cell_virtual[cell->active_cell_index()])
+        {
+          const auto &fe = cell->get_fe();
+          dofs.resize(fe.n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          const double size = cell->minimum_vertex_distance();
+          for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+            {
+              // One point per node: its x component's DoF stands for it.
+              const auto [component, base] = fe.system_to_component_index(i);
+              if (component != 0 || !owned.is_element(dofs[i]) || hanging.is_constrained(dofs[i]) ||
+                  !done.insert(dofs[i]).second)
+                continue;
+              const Point<dim> x = mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i));
+              const double     a = weight(x, size);
+              if (a == 0)
+                continue;
+              // A key no cell has, the same on any number of ranks.
+              std::uint64_t h = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  std::uint64_t bits;
+                  std::memcpy(&bits, &x[d], sizeof bits);
+                  h = mix64(h ^ bits);
+                }
+              const std::uint64_t h2 = mix64(h);
+              points.push_back({x, cell_volume(cell) / fe.n_dofs_per_cell(), static_cast<unsigned short>(block_of(cell)),
+                                PointKey{{PointCloud::extra_key, unsigned(h), unsigned(h >> 32), unsigned(h2)}}, cell});
+              for (unsigned int d = 0; d < dim; ++d)
+                node_point_dofs.push_back(dofs[fe.component_to_system_index(d, base)]);
+              node_point_alpha.push_back(a);
+            }
+        }
+    return points;
   }
 
   void

@@ -40,7 +40,8 @@ namespace perideal
                     const double                                             max_horizon,
                     const MPI_Comm                                           comm,
                     const std::function<unsigned int(const CellIterator &)> &levels_of,
-                    const bool                                               cell_geometry)
+                    const bool                                               cell_geometry,
+                    const std::vector<ExtraPoint>                           &extra)
   {
     X.clear();
     volume.clear();
@@ -121,6 +122,22 @@ namespace perideal
                     }
                 }
         }
+    for (const ExtraPoint &e : extra)
+      {
+        for (unsigned int d = 0; d < dim; ++d)
+          X.push_back(e.x[d]);
+        volume.push_back(e.volume);
+        block.push_back(e.block);
+        key.push_back(e.key);
+        cell.push_back(e.cell);
+        if (cell_geometry)
+          {
+            std::array<Point<dim>, 8> v;
+            for (unsigned int k = 0; k < 8; ++k)
+              v[k] = e.cell->vertex(k);
+            add_vertices(v, e.x);
+          }
+      }
     n_owned_points = volume.size();
     {
       unsigned long long mine = n_owned_points, before = 0;

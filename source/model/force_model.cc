@@ -307,7 +307,7 @@ namespace perideal
         blocks[b].material->set_block(b, blocks[b].horizon);
         if (!blocks[b].rigid) // a rigid block's material gives only its density
           blocks[b].material->initialize(state, blocks[b].points);
-        if (blocks[b].continuum)
+        if (blocks[b].continuum && !discretization.force_blending) // force blending: unweighted
           AssertThrow(blocks[b].material->weight_energy(state, blocks[b].points, discretization.point_alpha.data()),
                       ExcMessage("Blocks/" + blocks[b].name + "/Type: material '" + blocks[b].material_name +
                                  "' cannot weight its energy, so it cannot be coupled to a continuum block"));

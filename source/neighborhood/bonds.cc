@@ -99,6 +99,7 @@ namespace perideal
         // Coincident: closer than a millionth of the point's own cell size
         // (not of the horizon, which may be far larger than the cells).
         const double same_place = std::min(1e-9 * delta, 1e-6 * std::cbrt(cloud.volume[i]));
+        const bool   extra      = cloud.is_extra(i);
         // The search boxes: around x and, near a periodic face, around x
         // moved one period back through it (every combination of faces).
         std::array<std::array<double, 3>, dim> shifts{};
@@ -125,7 +126,9 @@ namespace perideal
         const std::size_t begin = bonds.neighbor.size();
         for (const unsigned int j : candidates)
           {
-            if (j == i || unbonded(j))
+            // No point bonds to an extra point (the PD force of force
+            // blending at an FE node), nor it to a point at its own place.
+            if (j == i || unbonded(j) || cloud.is_extra(j))
               continue;
             double e[3] = {points[j][0] - x[0], points[j][1] - x[1], points[j][2] - x[2]};
             if (wrap)
@@ -133,7 +136,7 @@ namespace perideal
             const double r2      = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
             const double reach_j = block_reach[cloud.block[j]];
             const double reach_ij = std::max(reach_i, reach_j);
-            if (r2 <= reach_ij * reach_ij)
+            if (r2 <= reach_ij * reach_ij && !(extra && std::sqrt(r2) <= same_place))
               {
                 different_horizons |= reach_j != reach_i;
                 if (std::sqrt(r2) <= same_place && coincident++ == 0)

@@ -161,7 +161,10 @@ namespace perideal
       {
         const double *v = state.velocity.begin() + dim * i;
         ke += 0.5 * state.mass_density[i] * cloud.volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        se += state.energy_density[i] * cloud.volume[i];
+        // Force blending: the PD energy of the PD points and the FE energy of
+        // the FE cells (a virtual point's PD energy is not weighted away).
+        if (!discretization.force_blending || !discretization.is_virtual(i))
+          se += state.energy_density[i] * cloud.volume[i];
       }
     std::size_t broken_local = 0;
     if (!model.broken.empty())

@@ -161,6 +161,14 @@ namespace perideal
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
+    prm.declare_entry("Scheme", "energy blending", Patterns::Selection("energy blending|force blending"),
+                      "energy blending: one energy, the PD energy weighted by alpha and the FE energy by "
+                      "1 - alpha across the band: symmetric tangent, internal forces that sum to zero, "
+                      "energy conserved, but ghost forces at the interface under a homogeneous strain. "
+                      "force blending: each FE node's acceleration is alpha times the PD one at the node "
+                      "plus 1 - alpha times the FE one, each PD point's is the PD one: no ghost force "
+                      "under any affine field, but neither exact global balance nor energy conservation "
+                      "(measured in doc/coupling.md); explicit (Verlet) runs.");
     prm.declare_entry("Blending width", "1", Patterns::Double(0),
                       "Width of the band inside continuum blocks, in horizons, over which the energy "
                       "passes from peridynamic to finite element (the PD weight falls linearly from 1 at "
@@ -497,6 +505,8 @@ namespace perideal
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
+    deck.coupling.scheme = prm.get("Scheme") == "force blending" ? CouplingParameters::Scheme::force :
+                                                                   CouplingParameters::Scheme::energy;
     deck.coupling.blending_width       = prm.get_double("Blending width");
     const std::string levels           = prm.get("Virtual point levels");
     deck.coupling.virtual_point_levels = levels == "auto" ? -1 : std::stoi(levels);

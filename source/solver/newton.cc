@@ -56,7 +56,13 @@ namespace perideal
     , state(access.state)
     , continuum(access.coupling ? &access.coupling->continuum : nullptr)
     , has_continuum(access.coupling != nullptr)
-  {}
+  {
+    // Its tangent is not symmetric: CG and the coupled tangent's products
+    // (coupled_tangent.h) assume energy blending.
+    AssertThrow(!(has_continuum && access.discretization.force_blending),
+                ExcMessage("Coupling/Scheme = force blending: available with the explicit solver (Verlet) only; "
+                           "QuasiStatic and Newmark runs couple by energy blending (Scheme = energy blending)"));
+  }
 
   std::vector<std::pair<Point<3>, unsigned int>>
   ImplicitSolver::collect_unknowns()

@@ -73,9 +73,10 @@ namespace perideal
     }
 
     /// F = Pi^T f_virtual - K U + load on the owned DoFs; @p f_virtual holds
-    /// V f (force, not density) per virtual point and component.
+    /// V f (force, not density) per virtual point and component. Without
+    /// @p transpose, F = -K U + load (@p f_virtual is not read).
     void
-    compute_force(const std::vector<double> &f_virtual);
+    compute_force(const std::vector<double> &f_virtual, const bool transpose = true);
 
     /// load += the nodal forces of a traction, one component, force per area,
     /// @p value at each face's centre, on @p faces (boundary faces of owned

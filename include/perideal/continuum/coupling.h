@@ -24,8 +24,11 @@ namespace perideal
     void
     update_virtual_points(VectorType &displacement);
 
-    /// The virtual points' forces (V f of @p force, a density) to the FE
-    /// nodes, with the FE stiffness: continuum.F.
+    /// The FE nodes' forces, continuum.F. Energy blending: the virtual
+    /// points' forces (V f of @p force, a density) go to the FE nodes
+    /// (Pi^T), with the FE stiffness's. Force blending: the force on a node
+    /// of weight alpha is alpha M/rho times the PD force density at its
+    /// node point plus 1 - alpha times the FE force (-K U), loads added.
     void
     transfer_forces(const PointCloud &cloud, const VectorType &force);
 
@@ -34,6 +37,16 @@ namespace perideal
     std::vector<double>       node_density;   // per continuum node: the density of its block
 
   private:
-    std::vector<double> u_virtual, f_virtual;
+    /// Force blending: a node point and its node.
+    struct NodePoint
+    {
+      unsigned int point;    // owned point index
+      unsigned int dof[dim]; // local (owned) FE DoF indices
+      double       alpha;    // PD weight
+      double       volume;   // lumped mass / density
+    };
+    std::vector<NodePoint> node_points; // empty: energy blending
+    bool                   force_blending = false;
+    std::vector<double>    u_virtual, f_virtual;
   };
 } // namespace perideal

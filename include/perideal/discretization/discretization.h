@@ -78,6 +78,7 @@ namespace perideal
     std::vector<Block>                                   &blocks;
     const ContactParameters &contact; // which blocks may hold particles without bonds
     const bool                                            has_continuum;
+    const bool force_blending; // Coupling/Scheme = force blending
 
     dealii::parallel::distributed::Triangulation<dim> triangulation;
     // FE_DGQ(0)^dim on PD cells (active FE index 0), FE_Q(p)^dim on the cells
@@ -98,6 +99,12 @@ namespace perideal
     std::vector<double>        point_alpha;
     std::vector<double>        cell_fe_weight;
     std::vector<unsigned char> cell_virtual;
+    // Force blending (Coupling/Scheme): per owned free FE node within the
+    // band, a point at the node where the PD force is evaluated (owned
+    // point index), its dim global DoFs and its weight alpha.
+    std::vector<unsigned int>                     node_points;
+    std::vector<dealii::types::global_dof_index> node_point_dofs;
+    std::vector<double>                           node_point_alpha;
 
   private:
     /// Size checks (size_check.cc): the built-in scene's cells, points and
@@ -145,6 +152,14 @@ namespace perideal
     /// only its bonds to weighted points to receive their reactions.
     void
     drop_unweighted_bonds();
+    /// Force blending: the node points of the owned free FE nodes whose
+    /// weight alpha is positive: 1 on a node of a PD cell's closure, falling
+    /// linearly to 0 over the band with the distance to the nearest PD cell
+    /// of @p nearby (its points of other blocks than @p probe, with their
+    /// cells' vertices). Sets node_point_dofs and node_point_alpha.
+    std::vector<PointCloud::ExtraPoint>
+    make_node_points(const PointCloud &nearby, const int probe, const std::function<int(const CellIterator &)> &block_of,
+                     const double max_horizon);
 
     MPI_Comm                   comm;
     dealii::ConditionalOStream &pcout;

@@ -32,6 +32,19 @@ namespace perideal
   class PointCloud
   {
   public:
+    /// A point that no cell makes: the nodes at which force blending
+    /// evaluates the PD force (doc/coupling.md). Appended after the cells'
+    /// points of its rank; its key must start with extra_key and be unique
+    /// and rank-independent.
+    struct ExtraPoint
+    {
+      dealii::Point<dim> x;
+      double             volume;
+      unsigned short     block;
+      PointKey           key;
+      CellIterator       cell; // a locally owned cell holding it
+    };
+
     /**
      * Points from the locally owned cells for which @p block_of returns a
      * block number (-1: not a peridynamic cell); then every point owned
@@ -50,6 +63,9 @@ namespace perideal
      *
      * Set periodicity first: a point near a periodic face is then also a
      * ghost candidate of the ranks near the opposite face.
+     *
+     * @p extra points follow the cells' points of this rank (with the cell
+     * geometry, their cell's vertices).
      */
     void
     build(const dealii::DoFHandler<dim>                         &dof_handler,
@@ -57,7 +73,8 @@ namespace perideal
           const double                                            max_horizon,
           const MPI_Comm                                          comm,
           const std::function<unsigned int(const CellIterator &)> &levels_of     = {},
-          const bool                                               cell_geometry = false);
+          const bool                                               cell_geometry = false,
+          const std::vector<ExtraPoint>                           &extra         = {});
 
     /**
      * Keep only the ghost candidates marked in @p used (indexed by local
@@ -88,6 +105,16 @@ namespace perideal
     position(const unsigned int i) const
     {
       return {X[3 * i], X[3 * i + 1], X[3 * i + 2]};
+    }
+
+    /// The first word of an ExtraPoint's key (no CellId has it).
+    static constexpr unsigned int extra_key = 0xFFFFFFFFu;
+    /// Whether local point @p i is an ExtraPoint: it has bonds to the
+    /// points around it, but no point has a bond to it.
+    bool
+    is_extra(const unsigned int i) const
+    {
+      return key[i][0] == extra_key;
     }
 
     /// A 64-bit hash of the point's key: the same on any number of ranks.

@@ -76,6 +76,15 @@ namespace perideal
   /// Coupling with continuum blocks (doc/coupling.md).
   struct CouplingParameters
   {
+    /// energy: the blended energy (symmetric, exact global balance, ghost
+    /// forces); force: force-based blending, free of ghost forces
+    /// (doc/coupling.md).
+    enum class Scheme
+    {
+      energy,
+      force
+    };
+    Scheme scheme               = Scheme::energy;
     double blending_width       = 1;  // in horizons
     int    virtual_point_levels = -1; // -1: auto
   };
