@@ -42,17 +42,27 @@ namespace
 
   const double K = 1, G = 0.6, E = 9 * K * G / (3 * K + G), eps = 1e-4;
 
-  /// The deck: the box [-10, 10]^3 (centred: the round-off of positions
-  /// grows with their size) of cells of size 1 (with hanging nodes: 2,
-  /// refined once in the cube [-4, 4]^3), PD cells in [-2, 2]^3, horizon 1.51.
+  /// Half the box's edge: [-9, 9]^3 of cells of size 1; with hanging nodes
+  /// [-10, 10]^3 of cells of size 2 (their vertices on even numbers),
+  /// refined once in the cube [-4, 4]^3. A checked node is at most 9 - 4.02
+  /// from the centre, so its family and its neighbors' stay inside.
+  int
+  half(const Case &c)
+  {
+    return c.hanging ? 10 : 9;
+  }
+
+  /// The deck: the box (centred: the round-off of positions grows with
+  /// their size), PD cells in [-2, 2]^3, horizon 1.51.
   std::string
   deck(const Case &c, const std::string &name)
   {
     std::ostringstream s;
     const std::string model = c.material == "correspondence" ? "Elastic correspondence" : c.material;
     s << "subsection Discretization\n  set Type = Box\n  set Horizon = 1.51\n  subsection Box\n"
-      << "    set Lower corner = -10, -10, -10\n    set Upper corner = 10, 10, 10\n"
-      << "    set Subdivisions = " << (c.hanging ? "10, 10, 10" : "20, 20, 20") << "\n  end\n"
+      << "    set Lower corner = " << -half(c) << ", " << -half(c) << ", " << -half(c) << "\n"
+      << "    set Upper corner = " << half(c) << ", " << half(c) << ", " << half(c) << "\n"
+      << "    set Subdivisions = " << (c.hanging ? "10, 10, 10" : "18, 18, 18") << "\n  end\n"
       << "  subsection Regions\n    set Names = pd, fine\n"
       << "    subsection pd\n      set Type = Box\n      set Lower corner = -2, -2, -2\n"
       << "      set Upper corner = 2, 2, 2\n    end\n"
@@ -102,7 +112,7 @@ namespace
     simulation.dry_run();
     SimulatorAccess  access = simulation.access();
     MechanicalState &state  = access.state;
-    const double     h = 1, horizon = 1.51, L = 10;
+    const double     h = 1, horizon = 1.51, L = half(c);
     Result           result;
     for (unsigned int mode = 0; mode < 7; ++mode)
       {
