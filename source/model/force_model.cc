@@ -302,6 +302,10 @@ namespace perideal
           fields->declare(f, bonds.n_bonds());
       }
     fused_breaking.clear();
+    read_points.assign(blocks.size(), {});
+    if (discretization.force_blending)
+      for (const unsigned int i : discretization.node_points)
+        read_points[cloud.block[i]].push_back(i);
     for (unsigned int b = 0; b < blocks.size(); ++b)
       {
         blocks[b].material->set_block(b, blocks[b].horizon);
@@ -428,7 +432,9 @@ namespace perideal
       TimerOutput::Scope t(timer, "force");
       for (unsigned int k = 0; k < blocks.size(); ++k)
         if (!blocks[k].rigid)
-          blocks[k].material->compute_force(fused_state(k), blocks[k].points);
+          blocks[k].material->compute_force(fused_state(k), blocks[k].continuum && discretization.force_blending ?
+                                                              read_points[k] :
+                                                              blocks[k].points);
     }
     for (auto &b : fused_breaking)
       {

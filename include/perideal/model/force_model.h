@@ -269,6 +269,10 @@ namespace perideal
     // Per block: the critical stretch its material applies in its force loop
     // (squared_limit 0: not fused, damage_pass() runs its own pass).
     std::vector<StretchBreaking> fused_breaking;
+    /// Force blending: per block, the points whose force is read, when not
+    /// all of them (a continuum block's node points; its virtual points'
+    /// forces go nowhere). Empty: all of the block's points.
+    std::vector<std::vector<unsigned int>> read_points;
     BondStretchLimits            stretch_limits; // the critical stretch of each bond, across blocks
     bool                         time_dependent_limits = false; // some block's critical stretch depends on time
     // Critical damage to neglect material point: 1 at a point once neglected,
