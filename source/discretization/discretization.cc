@@ -63,6 +63,8 @@ namespace perideal
   int
   Discretization::block_of_cell(const CellIterator &cell) const
   {
+    if (!converted.empty() && converted[cell->active_cell_index()])
+      return converted_block;
     for (unsigned int b = 0; b < blocks.size(); ++b)
       {
         const Block &block = blocks[b];
@@ -245,6 +247,14 @@ namespace perideal
   }
 
   void
+  Discretization::rebuild_points_and_bonds()
+  {
+    setup_warnings.clear();
+    build_points_and_bonds();
+    check_isolated_points();
+  }
+
+  void
   Discretization::check_cell_volumes() const
   {
     // The vertices carry about 16 digits of their distance from the origin
@@ -322,7 +332,8 @@ namespace perideal
           AssertThrow(false, ExcMessage("no cell belongs to any block: check Blocks/*/Material ids "
                                         "or Region (material ids in the mesh on rank 0: " + list + ")"));
         }
-      check_blocks_have_cells();
+      if (converted.empty()) // after a conversion a convertible block may have no cell left
+        check_blocks_have_cells();
       check_cell_volumes();
     }
     {

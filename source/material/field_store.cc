@@ -183,6 +183,35 @@ namespace perideal
   }
 
   void
+  FieldStore::carry_history(const FieldStore &from, const std::vector<unsigned int> &old_point,
+                            const std::vector<std::size_t> &old_bond)
+  {
+    for (auto &[name, e] : fields)
+      {
+        const auto there = from.fields.find(name);
+        if (e.spec.use != FieldUse::history || there == from.fields.end())
+          continue;
+        const unsigned int c = e.spec.components;
+        for (unsigned int i = 0; i < old_point.size(); ++i)
+          if (old_point[i] != numbers::invalid_unsigned_int)
+            for (unsigned int k = 0; k < c; ++k)
+              e.old.local_element(c * i + k) = there->second.old.local_element(c * old_point[i] + k);
+        e.now = e.old;
+      }
+    for (auto &[name, e] : bond_fields)
+      {
+        const auto there = from.bond_fields.find(name);
+        if (there == from.bond_fields.end())
+          continue;
+        for (std::size_t b = 0; b < old_bond.size(); ++b)
+          if (old_bond[b] != std::size_t(-1))
+            e.old[b] = there->second.old[old_bond[b]];
+        e.now = e.old;
+      }
+    bonds_written = false;
+  }
+
+  void
   FieldStore::load(CheckpointReader &in)
   {
     in.section("history fields");

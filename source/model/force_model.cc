@@ -484,7 +484,9 @@ namespace perideal
     for (unsigned int k = 0; k < blocks.size(); ++k)
       {
         const Block &b = blocks[k];
-        AssertThrow(!bad[k] && (!b.continuum || (fe > 0 && fe < std::numeric_limits<double>::max())),
+        // (Once every FE cell has converted there is none.)
+        AssertThrow(!bad[k] && (!b.continuum || (fe > 0 && (fe < std::numeric_limits<double>::max() ||
+                                                            !discretization.converted.empty()))),
                     ExcMessage("Materials/" + b.material_name + ": in block '" + b.name + "' (horizon " +
                                sci(b.horizon) + ") its constants (Bulk modulus " + sci(b.material->bulk_modulus()) +
                                ", Shear modulus " + sci(b.material->shear_modulus()) + ", Density " +

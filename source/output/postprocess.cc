@@ -45,7 +45,8 @@ namespace perideal
         {"contact_energy", "an extreme contact Spring constant"},
         {"contact_dissipation", "an extreme contact Spring constant or Friction coefficient"},
         {"material_dissipation", "a material constant out of range (e.g. Yield stress, Relaxation time)"},
-        {"released_energy", "extreme material constants"}};
+        {"released_energy", "extreme material constants"},
+        {"conversion_energy", "cells converted to peridynamics under extreme strain"}};
       double step = 0, time = 0, balance = 0;
       for (const auto &[name, value] : row)
         {
@@ -60,7 +61,7 @@ namespace perideal
                             ExcMessage("at step " + std::to_string(std::llround(step)) + " (t = " + sci(time, 6) +
                                        ") the globals' " + name + " is " + sci(value) +
                                        ": it has left the range of a double (1.8e308); likely cause: " + cause));
-                balance += name == "external_work" ? -value : value;
+                balance += name == "external_work" || name == "conversion_energy" ? -value : value;
               }
         }
       AssertThrow(std::isfinite(balance),
@@ -152,12 +153,11 @@ namespace perideal
       }
   }
 
-  std::vector<std::pair<std::string, double>>
-  Postprocess::global_quantities(const unsigned int step, const double time)
+  std::pair<double, double>
+  Postprocess::energies() const
   {
-    const unsigned int n  = cloud.n_owned();
-    double             ke = 0, se = 0, max_damage = 0;
-    for (unsigned int i = 0; i < n; ++i)
+    double ke = 0, se = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       {
         const double *v = state.velocity.begin() + dim * i;
         ke += 0.5 * state.mass_density[i] * cloud.volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -166,6 +166,22 @@ namespace perideal
         if (!discretization.force_blending || !discretization.is_virtual(i))
           se += state.energy_density[i] * cloud.volume[i];
       }
+    ke = Utilities::MPI::sum(ke, comm);
+    se = Utilities::MPI::sum(se, comm);
+    if (has_continuum)
+      {
+        ke += continuum->kinetic_energy();
+        se += continuum->strain_energy();
+      }
+    return {ke, se};
+  }
+
+  std::vector<std::pair<std::string, double>>
+  Postprocess::global_quantities(const unsigned int step, const double time)
+  {
+    const unsigned int n          = cloud.n_owned();
+    const auto [ke, se]           = energies();
+    double             max_damage = 0;
     std::size_t broken_local = 0;
     if (!model.broken.empty())
       for (unsigned int i = 0; i < n; ++i)
@@ -174,13 +190,6 @@ namespace perideal
             broken_local += model.broken[b];
           max_damage = std::max(max_damage, model.point_damage(i));
         }
-    ke                  = Utilities::MPI::sum(ke, comm);
-    se                  = Utilities::MPI::sum(se, comm);
-    if (has_continuum)
-      {
-        ke += continuum->kinetic_energy();
-        se += continuum->strain_energy();
-      }
     record.last_kinetic_energy = ke;
     record.last_strain_energy  = se;
     max_damage         = Utilities::MPI::max(max_damage, comm);
@@ -199,6 +208,16 @@ namespace perideal
         row.emplace_back("contact_dissipation", record.contact_dissipation);
       }
     model.rigid.add_globals(row, state.displacement.begin(), state.velocity.begin());
+    if (deck.adaptivity.active())
+      {
+        // The PD region as it grows (doc/adaptivity.md).
+        double pd_points = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          pd_points += !discretization.is_virtual(i) && !cloud.is_extra(i);
+        row.emplace_back("pd_points", Utilities::MPI::sum(pd_points, comm));
+        row.emplace_back("bonds", Utilities::MPI::sum(double(bonds.n_bonds()), comm));
+        row.emplace_back("conversion_energy", record.conversion_energy);
+      }
     // Only a scene with a dissipating material gets the column.
     if (model.field_store().tracks_dissipation())
       {
@@ -531,6 +550,10 @@ namespace perideal
             << (model.continuous_damage() ?
                   " (released by bond damage: each step's strain energy with the damage before it minus after)\n" :
                   " (released by broken bonds: their strain energy where they broke)\n");
+    if (deck.adaptivity.active())
+      pcout << "  adaptivity:             " << record.conversions << " conversions, " << std::setprecision(12)
+            << record.converted_cells << " cells turned peridynamic, energy jumps " << sci(record.conversion_energy, 4)
+            << " in all; " << format_seconds(record.conversion_seconds) << " in checks and conversions\n";
     const bool material_dissipation = model.field_store().tracks_dissipation();
     if (material_dissipation)
       pcout << "  material dissipation:   " << sci(record.material_dissipation, 6)
@@ -564,12 +587,13 @@ namespace perideal
         pcout << "  energy balance error:   "
               << sci((record.last_kinetic_energy + record.last_strain_energy + record.dissipated_energy +
                       record.material_dissipation + record.last_contact_energy + record.contact_dissipation -
-                      record.initial_energy - record.external_work) /
+                      record.initial_energy - record.external_work - record.conversion_energy) /
                        e_ref,
                      3)
               << " (kinetic + strain" << (contact ? " + contact + friction work" : "")
               << (dissipation ? " + dissipated" : "") << (material_dissipation ? " + material dissipation" : "")
-              << " - initial - external work, relative)\n";
+              << " - initial - external work" << (deck.adaptivity.active() ? " - conversion jumps" : "")
+              << ", relative)\n";
         if (damaged > 0)
           pcout << "                          not an error alone: it includes the energy released by the "
                 << std::setprecision(12) << damaged

@@ -181,6 +181,8 @@ namespace perideal
                       "cells of the PD spacing, 1 for cells twice as large).");
     prm.leave_subsection();
 
+    AdaptivityParameters::declare_parameters(prm);
+
     declare_named_section(prm, "Boundary conditions", "initial and boundary conditions", names.conditions,
                           [&](const std::string &) { BoundaryCondition::declare_parameters(prm); });
     declare_named_section(prm, "Computes",
@@ -512,6 +514,8 @@ namespace perideal
     deck.coupling.virtual_point_levels = levels == "auto" ? -1 : std::stoi(levels);
     prm.leave_subsection();
 
+    deck.adaptivity.parse_parameters(prm);
+
     prm.enter_subsection("Contact models");
     for (const auto &[name, model] : names.contact_models)
       {
@@ -626,6 +630,22 @@ namespace perideal
     prm.enter_subsection("Output");
     deck.output.parse_parameters(prm);
     prm.leave_subsection();
+    deck.adaptivity.resolve(deck.blocks);
+    if (deck.adaptivity.active())
+      {
+        // What a conversion does not carry over yet (doc/adaptivity.md).
+        AssertThrow(deck.solver.type == "Verlet" && std::all_of(deck.stages.begin(), deck.stages.end(), [](const SolverStage &s) {
+                      return s.solver.type == "Verlet";
+                    }),
+                    ExcMessage("Adaptivity/Convertible blocks: cells convert in explicit runs only (Solver/Type = "
+                               "Verlet, also in Solver stages) for now"));
+        AssertThrow(!deck.contact.active(),
+                    ExcMessage("Adaptivity/Convertible blocks: not available with Contact yet (the contact "
+                               "search is not rebuilt after a conversion)"));
+        AssertThrow(!deck.output.hdf5 && !deck.output.exodus,
+                    ExcMessage("Adaptivity/Convertible blocks: Output/Field format must be vtu, whose files "
+                               "each hold their own points (hdf5 and exodus write the mesh once)"));
+      }
     AssertThrow(!deck.output.wants("Temperature") || !deck.temperature.function.empty(),
                 ExcMessage("Output/Variables: Temperature needs a temperature field: set Temperature/Function"));
   }

@@ -1,6 +1,7 @@
 // The simulation: owns the parts, sets them up in order and hands the run to
 // the time integrator of Solver/Type.
 
+#include <perideal/adaptivity/adaptivity.h>
 #include <perideal/base/format.h>
 #include <perideal/base/memory.h>
 #include <perideal/conditions/condition_set.h>
@@ -15,6 +16,7 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -39,7 +41,7 @@ namespace perideal
   SimulatorAccess
   Simulation::access()
   {
-    return SimulatorAccess{comm, pcout, timer, deck, *discretization, *model, coupling.get(), *conditions, *post, state, record, restart, stage, continues,
+    return SimulatorAccess{comm, pcout, timer, deck, *discretization, *model, coupling.get(), *conditions, *post, state, record, adaptivity.get(), restart, stage, continues,
                            stage == deck.stages.size()};
   }
 
@@ -81,6 +83,14 @@ namespace perideal
       }
 
     record.dt_stable = model->stable_time_step();
+    if (deck.adaptivity.active())
+      {
+        AssertThrow(restart.empty(),
+                    ExcMessage("--restart: a run with Adaptivity cannot be restarted yet (the converted cells "
+                               "are not part of the checkpoint); run it from the start"));
+        adaptivity = std::make_unique<Adaptivity>(deck.adaptivity, *discretization, *model, *coupling, *post, state,
+                                                  record, comm, pcout, timer, [this](const double time) { rebuild(time); });
+      }
     // The stages still to come are checked now, not when they start (after
     // the ones before them have run and written their output).
     for (unsigned int k = stage; k < deck.stages.size(); ++k)
@@ -104,12 +114,51 @@ namespace perideal
   }
 
   void
+  Simulation::rebuild(const double time)
+  {
+    const std::size_t known = record.warnings.size();
+    discretization->rebuild_points_and_bonds();
+    record.warnings.insert(record.warnings.end(), discretization->setup_warnings.begin(),
+                           discretization->setup_warnings.end());
+    {
+      TimerOutput::Scope t(timer, "rebuild: model");
+      model->setup();
+    }
+    {
+      TimerOutput::Scope t(timer, "rebuild: continuum");
+      coupling->setup(*discretization, comm);
+    }
+    {
+      TimerOutput::Scope t(timer, "rebuild: conditions and computes");
+      state.number_dofs(*discretization, &coupling->continuum);
+      conditions->setup(coupling.get());
+      post->setup(coupling.get());
+      conditions->setup_constraints();
+      model->rigid.check_constraints(*conditions);
+      model->attach(conditions->body_force, coupling.get());
+      conditions->evaluate_loads(time);
+    }
+    {
+      TimerOutput::Scope t(timer, "rebuild: stable step");
+      record.dt_stable = model->stable_time_step();
+    }
+    // The warnings the set-up gave once are not repeated.
+    const std::vector<std::string> found(record.warnings.begin() + known, record.warnings.end());
+    record.warnings.resize(known);
+    for (const auto &w : found)
+      if (std::find(record.warnings.begin(), record.warnings.end(), w) == record.warnings.end())
+        record.warnings.push_back(w);
+  }
+
+  void
   Simulation::dry_run()
   {
     setup(true);
     access().stop_if_interrupted_in_setup();
     deck.output.initialize(comm); // the checks of the output and checkpoint directories
     post->print_setup_report();
+    if (adaptivity)
+      adaptivity->report_setup();
     const AvailableMemory available = available_memory(comm);
     if (std::isfinite(available.bytes_per_rank))
       pcout << "  memory available:  " << mib(available.bytes_per_rank) << " per rank (" << available.limited_by
@@ -135,6 +184,8 @@ namespace perideal
     setup(false);
     access().stop_if_interrupted_in_setup();
     post->print_setup_report();
+    if (adaptivity)
+      adaptivity->report_setup();
     deck.integrator->run();
     while (stage < deck.stages.size())
       {

@@ -8,6 +8,7 @@
 // summary closes; a run whose kinetic energy grows past a limit, or turns
 // non-finite, stops naming the point and the likely cause.
 
+#include <perideal/adaptivity/adaptivity.h>
 #include <perideal/base/best_point.h>
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
@@ -142,6 +143,11 @@ namespace perideal
       /// The final energies and the summary.
       void
       finish();
+      /// After cells converted (Adaptivity): the per-DoF arrays, the
+      /// supports' and loads' start values in the new numbering, and the
+      /// stable step of the new model.
+      void
+      take_conversion();
       /// Stops, after writing the last good state, if the step made the state
       /// non-finite or the kinetic energy grew past the limit. Collective.
       void
@@ -168,7 +174,11 @@ namespace perideal
       bool         counted  = true; // n_steps steps; else up to Final time
       bool         adaptive = true; // the automatic step (shortened for fast points)
       double       time = 0, dt_elastic = 0, spacing = 0, speed = 0;
-      bool         fast_warned = false, contact_warned = false;
+      // Steps of equal length count their time from here: the start, or the
+      // last conversion (which may change the stable step).
+      double       base_time = 0;
+      unsigned int base_step = 0;
+      bool         fast_warned = false, contact_warned = false, unstable_warned = false;
       std::chrono::steady_clock::time_point start, last_print;
       double                                last_percent = 0;
 
@@ -244,6 +254,8 @@ namespace perideal
       last_percent = 0;
       step         = 0;
       time         = solver.initial_time;
+      base_time    = time;
+      base_step    = 0;
       // The automatic step also keeps max |v| dt <= max_spacing_fraction h
       // (see there); a fixed one is only warned about.
       adaptive    = fixed_dt == 0;
@@ -333,7 +345,7 @@ namespace perideal
         dt = solver.final_time - time;
       const double new_time = last && !counted           ? solver.final_time :
                               record.shortened_steps > 0 ? time + dt :
-                                                           solver.initial_time + step * dt;
+                                                           base_time + (step - base_step) * dt;
       const unsigned int steps_now = counted ? n_steps : last ? step : 0; // for the output steps
       {
         TimerOutput::Scope t(timer, "time integration");
@@ -433,6 +445,8 @@ namespace perideal
       if (output_step)
         post.write_output(step, time, post.output.is_globals_step(step, steps_now),
                           post.output.is_field_step(step, steps_now));
+      if (access->adaptivity && !last && access->adaptivity->due(step) && access->adaptivity->check(step, time, dt))
+        take_conversion();
       if (adaptive || !fast_warned)
         speed = model.fastest_bonded_speed();
       if (!adaptive && !fast_warned && speed * dt > max_spacing_fraction * spacing)
@@ -464,6 +478,39 @@ namespace perideal
         }
       report_progress(last);
       return last;
+    }
+
+    void
+    Verlet::take_conversion()
+    {
+      RunRecord       &record     = access->record;
+      ConditionSet    &conditions = access->conditions;
+      MechanicalState &state      = access->state;
+      u_previous.resize(state.size());
+      v_previous.resize(state.size());
+      damage_before = ForceModel::DamageSnapshot(); // of the old bonds: taken again at the next step
+      load_previous.clear();
+      if (conditions.has_loads())
+        for (unsigned int k = 0; k < state.size(); ++k)
+          load_previous.push_back(conditions.load(k));
+      conditions.constraint_displacement.resize(conditions.constraints.size());
+      for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
+        {
+          conditions.constraint_force[c]        = state.f(conditions.constraints[c].dof);
+          conditions.constraint_displacement[c] = state.u(conditions.constraints[c].dof);
+        }
+      if (fixed_dt == 0)
+        dt_elastic = safety_factor * record.dt_stable;
+      else if (fixed_dt > record.dt_stable && !unstable_warned)
+        {
+          unstable_warned = true;
+          record.warnings.push_back("step " + std::to_string(step) + ": after cells converted to peridynamics, "
+                                    "Fixed dt " + sci(fixed_dt) + " exceeds the stable estimate " +
+                                    sci(record.dt_stable) + ": the run may become unstable");
+        }
+      spacing   = access->discretization.point_spacing();
+      base_time = time;
+      base_step = step;
     }
 
     void

@@ -1,6 +1,7 @@
 #!/bin/bash
-# Runs the notched plate coupled and all-PD, one after the other on the same
-# ranks, and prints the comparison table of README.md (compare.py).
+# Runs the notched plate coupled, all-PD and adaptive, one after the other on
+# the same ranks, and prints the comparison tables of README.md (compare.py,
+# tip_times.py).
 #
 # usage: doc/examples/notched_plate/run.sh [ranks (default 2)] [pd_app (default build/pd_app)]
 # Output in doc/examples/notched_plate/output/, logs coupled.log and all_pd.log
@@ -10,8 +11,10 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 ranks=${1:-2}
 pd_app=${2:-$here/../../../build/pd_app}
 cd "$here"
-for run in coupled all_pd; do
+for run in coupled all_pd adaptive; do
   echo "running $run.prm on $ranks ranks ..."
   mpirun -np "$ranks" "$pd_app" "$run.prm" > "$run.log"
 done
 python3 compare.py .
+# The run that starts with PD only at the notch (adaptive.prm) beside the two.
+python3 tip_times.py output/all_pd.globals.csv output/coupled.globals.csv output/adaptive.globals.csv

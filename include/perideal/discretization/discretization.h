@@ -44,6 +44,11 @@ namespace perideal
     void
     setup();
 
+    /// Makes the points and bonds again after cells were marked in
+    /// converted (Adaptivity), on the same mesh and partition. Collective.
+    void
+    rebuild_points_and_bonds();
+
     /// Whether @p x (in @p cell) lies in the region named @p region ("All": everywhere).
     bool
     in_region(const std::string &region, const dealii::Point<dim> &x, const CellIterator &cell) const
@@ -54,8 +59,9 @@ namespace perideal
     /// it was asked about (NaN would silently put the point inside).
     void
     check_region_expressions() const;
-    /// The block that claims @p cell (the first whose region or material ids
-    /// hold it), -1 if none.
+    /// The block that claims @p cell: the converted cells' block for a
+    /// converted cell, else the first whose region or material ids hold
+    /// it, -1 if none.
     int
     block_of_cell(const CellIterator &cell) const;
     /// A point of a continuum block: it follows the FE field.
@@ -67,6 +73,12 @@ namespace perideal
     /// The smallest point spacing, (cell volume)^(1/3), over the points with mass. Collective.
     double
     point_spacing() const;
+    /// Coupling/Blending width: the band's width in horizons.
+    double
+    blending() const
+    {
+      return blending_width;
+    }
     /// The horizon key of the block with the largest horizon, for messages.
     std::string
     horizon_key() const;
@@ -102,6 +114,10 @@ namespace perideal
     // Force blending (Coupling/Scheme): per owned free FE node within the
     // band, a point at the node where the PD force is evaluated (owned
     // point index), its dim global DoFs and its weight alpha.
+    // Adaptivity: per active cell (owned and ghost), 1 if it has turned
+    // into a cell of block converted_block; empty before any conversion.
+    std::vector<std::uint8_t> converted;
+    unsigned int              converted_block = 0;
     std::vector<unsigned int>                     node_points;
     std::vector<dealii::types::global_dof_index> node_point_dofs;
     std::vector<double>                           node_point_alpha;

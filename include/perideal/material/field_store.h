@@ -152,6 +152,14 @@ namespace perideal
     save(CheckpointWriter &out) const;
     void
     load(CheckpointReader &in);
+    /// After a rebuild of the points and bonds (a conversion,
+    /// adaptivity.h): every history field's committed values (N, and NP1 =
+    /// N as after load()) of the points and bonds @p from also held, taken
+    /// from there. @p old_point gives per owned point its index in @p from's
+    /// numbering, @p old_bond per bond its old index (-1: new, left zero).
+    void
+    carry_history(const FieldStore &from, const std::vector<unsigned int> &old_point,
+                  const std::vector<std::size_t> &old_bond);
 
   private:
     struct Entry

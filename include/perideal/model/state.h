@@ -208,6 +208,11 @@ namespace perideal
     double       dt = 0, dt_stable = 0;
     double       external_work = 0, initial_energy = 0, last_strain_energy = 0, last_kinetic_energy = 0;
     double       dissipated_energy = 0; // released by broken bonds (ForceModel::released_energy)
+    // Adaptivity: the energy the conversions added (after - before, summed), in the balance.
+    double       conversion_energy = 0;
+    unsigned int conversions = 0;        // Adaptivity: conversions so far
+    double       converted_cells = 0;    // cells converted so far (all ranks)
+    double       conversion_seconds = 0; // spent in the checks and conversions
     // Dissipated by the materials (plastic, viscous work) up to the last
     // globals row: FieldStore::dissipated_energy(), summed over ranks.
     double       material_dissipation = 0;

@@ -44,6 +44,10 @@ namespace perideal
     /// last_strain_energy. Collective.
     std::vector<std::pair<std::string, double>>
     global_quantities(const unsigned int step, const double time);
+    /// Kinetic and strain energy of the current state (strain energy from
+    /// the last evaluation with energy), summed over ranks. Collective.
+    std::pair<double, double>
+    energies() const;
     /// The globals row and/or the field files of @p step. Collective.
     void
     write_output(const unsigned int step, const double time, const bool globals = true, const bool field_files = true);

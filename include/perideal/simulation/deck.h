@@ -6,6 +6,7 @@
 // keys (so that their errors show whichever is chosen); the one of
 // Solver/Type runs.
 
+#include <perideal/adaptivity/adaptivity_parameters.h>
 #include <perideal/base/input.h>
 #include <perideal/compute/region_compute.h>
 #include <perideal/conditions/boundary_conditions.h>
@@ -108,6 +109,7 @@ namespace perideal
     std::vector<Block>                             blocks;
     bool                                           has_continuum = false;
     CouplingParameters                             coupling;
+    AdaptivityParameters                           adaptivity;
     TemperatureParameters                          temperature;
     ContactParameters                              contact;
     std::vector<BoundaryCondition>                 conditions;

@@ -21,6 +21,7 @@ namespace perideal
   class ForceModel;
   class Coupling;
   class Contact;
+  class Adaptivity;
   class ConditionSet;
   class Postprocess;
 
@@ -49,6 +50,11 @@ namespace perideal
     /// coupling, conditions, computes, the integrator's time step.
     void
     setup(const bool dry_run_mode);
+    /// After cells converted (Adaptivity): the points, bonds and every part
+    /// that depends on them again, on the same mesh, with the loads of
+    /// @p time. Collective.
+    void
+    rebuild(const double time);
     /// Makes Solver stages' @p k-th solver the running one, from time @p start.
     void
     start_stage(const unsigned int k, const double start);
@@ -70,5 +76,6 @@ namespace perideal
     std::unique_ptr<Contact>        contact;  // only with Contact interactions
     std::unique_ptr<ConditionSet>   conditions;
     std::unique_ptr<Postprocess>    post;
+    std::unique_ptr<Adaptivity>     adaptivity; // only with an Adaptivity section
   };
 } // namespace perideal

@@ -33,6 +33,7 @@ namespace perideal
   class ImplicitSolver;
   class CheckpointWriter;
   class CheckpointReader;
+  class Adaptivity;
 
   /// What an integrator (and the postprocessing) may reach. Collective
   /// functions are marked so.
@@ -50,6 +51,7 @@ namespace perideal
     Postprocess                &post;
     MechanicalState            &state;
     RunRecord                  &record;
+    Adaptivity                 *adaptivity; // nullptr without an Adaptivity section
     std::string                 restart; // pd_app --restart: the checkpoint's directory; empty: a fresh run
     // Solver stages: the running solver's index (0: Solver), whether it
     // continues the state of one before it (no initial conditions, no step 0,

@@ -1,0 +1,120 @@
+#pragma once
+// Cells that turn into peridynamics during a run (doc/adaptivity.md).
+//
+// Every Check interval steps the FE cells of the convertible continuum
+// blocks are tested by an indicator evaluated on the FE side (there is no PD
+// damage before a cell converts); each cell that passes, and every
+// convertible cell within the buffer of one, becomes a cell of the named
+// peridynamic block: its point takes the FE displacement and velocity at its
+// centroid (the FE interpolation of its own cell), its bonds start intact
+// with reference lengths from the reference positions. The points, bonds,
+// ghosts, coupling band, masses, conditions and stable step are then made
+// again for the new set of PD cells on the same mesh and partition, and the
+// state of every point, bond and FE node that existed before is carried
+// over by its identity (CellId keys, cell-local FE values), so that the
+// displacement, velocity, momentum and the damage and history so far are
+// continuous.
+
+#include <perideal/adaptivity/adaptivity_parameters.h>
+#include <perideal/model/state.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/hp/fe_values.h>
+
+#include <functional>
+#include <utility>
+#include <vector>
+
+namespace perideal
+{
+  class Discretization;
+  class ForceModel;
+  class Coupling;
+  class Postprocess;
+
+  class Adaptivity
+  {
+  public:
+    /// @p rebuild(t) makes the points, bonds and every part that depends on
+    /// them again for the cells marked in the discretization, with the
+    /// loads of time t (Simulation).
+    Adaptivity(const AdaptivityParameters &parameters, Discretization &discretization, ForceModel &model,
+               Coupling &coupling, Postprocess &post, MechanicalState &state, RunRecord &record, const MPI_Comm comm,
+               dealii::ConditionalOStream &pcout, dealii::TimerOutput &timer, std::function<void(double)> rebuild);
+
+    /// Whether step @p step is a check step.
+    bool
+    due(const unsigned int step) const
+    {
+      return step % parameters.check_interval == 0;
+    }
+    /// The check after the accepted step @p step at @p time: converts the
+    /// cells the indicator flags (with their buffer), rebuilds, carries the
+    /// state over, evaluates the forces of the new model and logs the
+    /// conversion. @p dt is the step the buffer's wave distance is for.
+    /// Returns true if cells converted (the integrator then takes the new
+    /// numbering). Collective.
+    bool
+    check(const unsigned int step, const double time, const double dt);
+
+    /// The set-up report's line: the blocks, the indicator, the interval
+    /// and the buffer with the run's time step.
+    void
+    report_setup() const;
+
+    /// The buffer width used with time step @p dt: the parameter, or the
+    /// rule horizon + blending band + fastest wave speed x check interval x dt.
+    double
+    buffer_width(const double dt) const;
+
+  private:
+    /// Where this rank's indicator passes: the centres of its FE cells (or
+    /// the positions of its damaged PD points) past the threshold.
+    std::vector<dealii::Point<dim>>
+    find_triggers() const;
+    /// The indicator's value at one owned FE cell of a convertible block
+    /// (@p values: a midpoint rule with gradients).
+    double
+    cell_indicator(const CellIterator &cell, dealii::hp::FEValues<dim> &values) const;
+    /// Marks every convertible cell (owned and ghost) whose centre lies
+    /// within @p width of a trigger of any rank; returns the owned cells it marked.
+    std::size_t
+    mark_cells(const std::vector<dealii::Point<dim>> &triggers, const double width);
+    /// Kinetic and strain energy of the current state (its ghosts updated,
+    /// forces evaluated with energy). Collective.
+    std::pair<double, double>
+    energies();
+
+    /// The state that survives a conversion, by identity (adaptivity.cc).
+    struct Snapshot;
+    Snapshot
+    take_snapshot() const;
+    /// The old owned point with key @p key, or unsigned(-1).
+    unsigned int
+    old_point(const Snapshot &old, const PointKey &key) const;
+    /// Sets u and v of every owned point and FE DoF from @p old, then
+    /// restore_bonds().
+    void
+    restore(const Snapshot &old);
+    /// The bond damage and the models' history from @p old; @p point_map:
+    /// per owned point its old index (or -1).
+    void
+    restore_bonds(const Snapshot &old, const std::vector<unsigned int> &point_map);
+
+    const AdaptivityParameters &parameters;
+    Discretization             &discretization;
+    ForceModel                 &model;
+    Coupling                   &coupling;
+    Postprocess                &post;
+    MechanicalState            &state;
+    RunRecord                  &record;
+    MPI_Comm                    comm;
+    dealii::ConditionalOStream &pcout;
+    dealii::TimerOutput        &timer;
+    std::function<void(double)>  rebuild; // at a time: the loads of then
+    double                      critical_stretch = 0; // the PD block's s_c (strain and energy indicators)
+    double                      wave_speed       = 0; // the fastest P wave of the convertible blocks
+  };
+} // namespace perideal

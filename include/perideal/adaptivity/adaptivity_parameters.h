@@ -1,0 +1,51 @@
+#pragma once
+// The Adaptivity section of the parameter file (doc/adaptivity.md); the
+// conversion itself is adaptivity.h.
+
+#include <perideal/base/input.h>
+
+#include <string>
+#include <vector>
+
+namespace perideal
+{
+  struct Block;
+
+  /// The Adaptivity section of the parameter file.
+  struct AdaptivityParameters
+  {
+    enum class Indicator
+    {
+      principal_strain, // largest principal strain / s_c of the PD block's damage model
+      energy_density,   // strain energy density / (E s_c^2 / 2)
+      damage            // largest damage of a PD point within the buffer
+    };
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /// Reads the section; the block names are checked by resolve().
+    void
+    parse_parameters(ParameterHandler &prm);
+    /// Checks the blocks against @p blocks (convertible ones continuum
+    /// blocks of the Peridynamic block's material, which is peridynamic
+    /// with a damage model where the indicator needs its critical stretch)
+    /// and sets the block numbers. An Error names the key.
+    void
+    resolve(const std::vector<Block> &blocks);
+    bool
+    active() const
+    {
+      return !convertible_names.empty();
+    }
+
+    std::vector<std::string>  convertible_names;
+    std::string               pd_block_name;
+    Indicator                 indicator      = Indicator::principal_strain;
+    double                    threshold      = 0.5;
+    unsigned int              check_interval = 10;
+    double                    buffer         = 0; // 0: the rule (doc/adaptivity.md)
+    std::vector<unsigned int> convertible;        // block numbers
+    unsigned int              pd_block = 0;
+  };
+
+} // namespace perideal

@@ -1,0 +1,518 @@
+// Cells that turn into peridynamics during a run (adaptivity.h, doc/adaptivity.md).
+
+#include <perideal/adaptivity/adaptivity.h>
+#include <perideal/base/format.h>
+#include <perideal/continuum/coupling.h>
+#include <perideal/discretization/discretization.h>
+#include <perideal/material/field_store.h>
+#include <perideal/model/block.h>
+#include <perideal/model/force_model.h>
+#include <perideal/output/postprocess.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/numerics/rtree.h>
+
+#include <algorithm>
+#include <iomanip>
+#include <limits>
+#include <chrono>
+#include <cmath>
+
+namespace perideal
+{
+  using namespace dealii;
+  namespace bgi = boost::geometry::index;
+
+  /// The state that survives a conversion, by identity.
+  struct Adaptivity::Snapshot
+  {
+    std::vector<PointKey>      keys;      // per old owned point
+    std::vector<unsigned int>  order;     // old owned points sorted by key
+    std::vector<std::uint8_t>  real;      // per old owned point: 1 if not a virtual or node point
+    std::vector<double>        u, v;      // dim per old owned point
+    std::vector<std::size_t>   offsets;   // old bonds per old owned point (CSR)
+    std::vector<PointKey>      neighbor;  // per old bond, each family sorted by it: the far end's key
+    std::vector<std::size_t>   bond;      // the old bond index of each of them
+    std::vector<std::uint8_t>  broken;    // per old bond (empty without damage)
+    std::vector<double>        damage;    // per old bond (empty without continuous damage)
+    // Per owned FE cell (active cell index): its DoFs' u and v before the conversion.
+    std::vector<std::vector<double>> cell_u, cell_v;
+    std::vector<unsigned int>        cell_fe; // its active FE index (0: not an owned FE cell)
+    std::unique_ptr<FieldStore>      history; // the models' fields
+  };
+  // ------------------------------------------------------------ parameters
+
+  void
+  AdaptivityParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Adaptivity");
+    prm.declare_entry("Convertible blocks", "", Patterns::Anything(),
+                      "Continuum blocks whose cells may turn into peridynamic cells during the run (comma "
+                      "separated); empty: no conversion. Explicit (Verlet) runs (doc/adaptivity.md).");
+    prm.declare_entry("Peridynamic block", "", Patterns::Anything(),
+                      "The peridynamic block whose material, damage model and horizon a converted cell takes. "
+                      "Its Material must be the convertible blocks' own, so that a cell keeps its constants.");
+    prm.declare_entry("Indicator", "maximum principal strain",
+                      Patterns::Selection("maximum principal strain|strain energy density|damage"),
+                      "What marks an FE cell for conversion, evaluated on the FE side before any PD damage "
+                      "exists there. maximum principal strain: the largest eigenvalue of the cell's strain "
+                      "at its centre, against Threshold times the critical stretch s_c of the Peridynamic "
+                      "block's damage model. strain energy density: 1/2 eps:C:eps at the centre against "
+                      "Threshold times E s_c^2 / 2 (the energy density of uniaxial stress at s_c). damage: "
+                      "a PD point whose damage reaches Threshold marks every convertible cell within the "
+                      "buffer of it.");
+    prm.declare_entry("Threshold", "0.5", Patterns::Double(),
+                      "The fraction of the indicator's critical value at which a cell converts (> 0).");
+    prm.declare_entry("Check interval", "10", Patterns::Integer(1),
+                      "Steps between two checks of the indicator.");
+    prm.declare_entry("Buffer width", "0", Patterns::Double(0),
+                      "The convertible cells whose centres lie within this distance of a marked cell (or "
+                      "damaged point) convert with it. 0: the rule horizon + blending band + the distance "
+                      "the fastest wave of the convertible blocks travels in Check interval steps, so that "
+                      "no point whose bonds may break reaches an FE cell before the next check. Given: at "
+                      "least the Peridynamic block's horizon.");
+    prm.leave_subsection();
+  }
+
+  void
+  AdaptivityParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Adaptivity");
+    const std::string list = prm.get("Convertible blocks");
+    convertible_names      = list.find_first_not_of(" \t,") == std::string::npos ?
+                               std::vector<std::string>() :
+                               split_names(list, "Adaptivity/Convertible blocks");
+    pd_block_name          = Utilities::trim(prm.get("Peridynamic block"));
+    const std::string kind = prm.get("Indicator");
+    indicator      = kind == "damage"                 ? Indicator::damage :
+                     kind == "strain energy density" ? Indicator::energy_density :
+                                                        Indicator::principal_strain;
+    threshold      = prm.get_double("Threshold");
+    check_interval = prm.get_integer("Check interval");
+    buffer         = prm.get_double("Buffer width");
+    prm.leave_subsection();
+  }
+
+  void
+  AdaptivityParameters::resolve(const std::vector<Block> &blocks)
+  {
+    if (!active())
+      return;
+    const auto find = [&](const std::string &name, const std::string &key) {
+      std::string all;
+      for (unsigned int b = 0; b < blocks.size(); ++b)
+        {
+          if (blocks[b].name == name)
+            return b;
+          all += (all.empty() ? "" : ", ") + blocks[b].name;
+        }
+      AssertThrow(false, ExcMessage(key + ": '" + name + "' is not a block of Blocks/Names (" + all + ")"));
+      return 0u;
+    };
+    AssertThrow(!pd_block_name.empty(),
+                ExcMessage("Adaptivity/Peridynamic block: empty, but Adaptivity/Convertible blocks is set: name "
+                           "the peridynamic block whose material and damage model the converted cells take"));
+    pd_block           = find(pd_block_name, "Adaptivity/Peridynamic block");
+    const Block &target = blocks[pd_block];
+    AssertThrow(!target.continuum && !target.rigid,
+                ExcMessage("Adaptivity/Peridynamic block: block '" + target.name + "' is " +
+                           (target.rigid ? "rigid" : "a continuum block") +
+                           ": the converted cells need a peridynamic block to take its material"));
+    AssertThrow(std::isfinite(threshold) && threshold > 0,
+                ExcMessage("Adaptivity/Threshold must be a positive number, not " + sci(threshold)));
+    AssertThrow(buffer == 0 || buffer >= target.horizon,
+                ExcMessage("Adaptivity/Buffer width (" + sci(buffer) + ") is narrower than the horizon of block '" +
+                           target.name + "' (" + sci(target.horizon) +
+                           "): a point whose bonds break would reach an FE cell; give at least the horizon, "
+                           "or 0 for the rule"));
+    AssertThrow(indicator == Indicator::damage || (target.damage && target.damage->stretch_criterion()),
+                ExcMessage("Adaptivity/Indicator: the strain and energy indicators compare with the critical "
+                           "stretch of block '" + target.name + "'s damage model, and it has " +
+                           (target.damage ? "'" + target.damage_name + "', which is not a critical stretch" :
+                                            std::string("none")) +
+                           ": use Indicator = damage, or give the block a critical stretch damage model"));
+    convertible.clear();
+    for (const auto &name : convertible_names)
+      {
+        const unsigned int b     = find(name, "Adaptivity/Convertible blocks");
+        const Block       &block = blocks[b];
+        AssertThrow(block.continuum,
+                    ExcMessage("Adaptivity/Convertible blocks: block '" + name +
+                               "' is not a continuum block: only FE cells convert"));
+        AssertThrow(block.material_name == target.material_name,
+                    ExcMessage("Adaptivity/Convertible blocks: block '" + name + "' has material '" +
+                               block.material_name + "', the Peridynamic block '" + target.name + "' has '" +
+                               target.material_name + "': its continuum model (linear elasticity of '" +
+                               block.material_name + "') has no peridynamic counterpart in that block; a "
+                               "converted cell keeps its material, so give both blocks the same Material"));
+        convertible.push_back(b);
+      }
+  }
+
+  // ------------------------------------------------------------ Adaptivity
+
+  Adaptivity::Adaptivity(const AdaptivityParameters &parameters, Discretization &discretization, ForceModel &model,
+                         Coupling &coupling, Postprocess &post, MechanicalState &state, RunRecord &record,
+                         const MPI_Comm comm, ConditionalOStream &pcout, TimerOutput &timer,
+                         std::function<void(double)> rebuild)
+    : parameters(parameters)
+    , discretization(discretization)
+    , model(model)
+    , coupling(coupling)
+    , post(post)
+    , state(state)
+    , record(record)
+    , comm(comm)
+    , pcout(pcout)
+    , timer(timer)
+    , rebuild(std::move(rebuild))
+  {
+    const Block &target = discretization.blocks[parameters.pd_block];
+    if (target.damage && target.damage->stretch_criterion())
+      critical_stretch = target.damage->critical_stretch(0);
+    for (const unsigned int b : parameters.convertible)
+      {
+        const Material &m = *discretization.blocks[b].material;
+        wave_speed        = std::max(wave_speed, std::sqrt((m.bulk_modulus() + 4 * m.shear_modulus() / 3) / m.density()));
+      }
+    discretization.converted_block = parameters.pd_block;
+  }
+
+  void
+  Adaptivity::report_setup() const
+  {
+    std::string blocks;
+    for (const auto &name : parameters.convertible_names)
+      blocks += (blocks.empty() ? "" : ", ") + name;
+    const char *what = parameters.indicator == AdaptivityParameters::Indicator::damage ? "point damage" :
+                       parameters.indicator == AdaptivityParameters::Indicator::energy_density ?
+                                                                                      "strain energy density / (E s_c^2 / 2)" :
+                                                                                      "largest principal strain / s_c";
+    pcout << "  adaptivity:        " << blocks << " -> " << parameters.pd_block_name << " where " << what
+          << " >= " << parameters.threshold << ", checked every " << parameters.check_interval << " steps, buffer "
+          << sci(buffer_width(record.dt), 4) << (parameters.buffer > 0 ? " (given)" : " (the rule, at this step)")
+          << "\n";
+  }
+
+  double
+  Adaptivity::buffer_width(const double dt) const
+  {
+    if (parameters.buffer > 0)
+      return parameters.buffer;
+    const double horizon = discretization.blocks[parameters.pd_block].horizon;
+    return horizon * (1 + discretization.blending()) + wave_speed * parameters.check_interval * dt;
+  }
+
+  double
+  Adaptivity::cell_indicator(const CellIterator &cell, hp::FEValues<dim> &hp_values) const
+  {
+    // The strain at the cell's centre from its own FE field.
+    const FiniteElement<dim> &fe = cell->get_fe();
+    hp_values.reinit(cell);
+    const FEValues<dim> &values = hp_values.get_present_fe_values();
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    cell->get_dof_indices(dofs);
+    SymmetricTensor<2, dim> eps;
+    for (unsigned int k = 0; k < dofs.size(); ++k)
+      {
+        const unsigned int     c = fe.system_to_component_index(k).first;
+        const Tensor<1, dim>   g = values.shape_grad_component(k, 0, c) * coupling.continuum.U(dofs[k]);
+        for (unsigned int d = 0; d < dim; ++d)
+          eps[c][d] += (c == d ? 1.0 : 0.5) * g[d];
+      }
+    if (parameters.indicator == AdaptivityParameters::Indicator::principal_strain)
+      return eigenvalues(eps)[0] / critical_stretch;
+    const Material &m       = *discretization.blocks[discretization.block_of_cell(cell)].material;
+    const double    K       = m.bulk_modulus(), G = m.shear_modulus();
+    const double    lambda  = K - 2 * G / 3, E = 9 * K * G / (3 * K + G);
+    const double    density = 0.5 * lambda * trace(eps) * trace(eps) + G * (eps * eps);
+    return density / (0.5 * E * critical_stretch * critical_stretch);
+  }
+
+  std::vector<Point<dim>>
+  Adaptivity::find_triggers() const
+  {
+    std::vector<Point<dim>> triggers;
+    if (parameters.indicator == AdaptivityParameters::Indicator::damage)
+      {
+        for (unsigned int i = 0; i < discretization.cloud.n_owned(); ++i)
+          if (!discretization.is_virtual(i) && !discretization.cloud.is_extra(i) &&
+              model.point_damage(i) >= parameters.threshold)
+            triggers.push_back(discretization.cloud.position(i));
+        return triggers;
+      }
+    coupling.continuum.U.update_ghost_values();
+    hp::QCollection<dim> centre;
+    for (unsigned int k = 0; k < discretization.fe.size(); ++k)
+      centre.push_back(QMidpoint<dim>());
+    hp::FEValues<dim> values(discretization.fe, centre, update_gradients);
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        {
+          const int b = discretization.block_of_cell(cell);
+          if (std::find(parameters.convertible.begin(), parameters.convertible.end(), b) !=
+                parameters.convertible.end() &&
+              cell_indicator(cell, values) >= parameters.threshold)
+            triggers.push_back(cell->center());
+        }
+    return triggers;
+  }
+
+  std::size_t
+  Adaptivity::mark_cells(const std::vector<Point<dim>> &triggers, const double width)
+  {
+    std::vector<std::uint8_t> &converted = discretization.converted;
+    if (converted.empty())
+      converted.assign(discretization.triangulation.n_active_cells(), 0);
+    const auto  tree  = pack_rtree(triggers);
+    std::size_t owned = 0;
+    // Owned and ghost cells alike, from the same triggers: every rank agrees
+    // on the cells it shares.
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (!cell->is_artificial() && !converted[cell->active_cell_index()])
+        {
+          const int b = discretization.block_of_cell(cell);
+          if (std::find(parameters.convertible.begin(), parameters.convertible.end(), b) ==
+              parameters.convertible.end())
+            continue;
+          const Point<dim>        x = cell->center();
+          std::vector<Point<dim>> nearest;
+          tree.query(bgi::nearest(x, 1), std::back_inserter(nearest));
+          if (!nearest.empty() && nearest[0].distance(x) <= width)
+            {
+              converted[cell->active_cell_index()] = 1;
+              owned += cell->is_locally_owned();
+            }
+        }
+    return owned;
+  }
+
+  std::pair<double, double>
+  Adaptivity::energies()
+  {
+    coupling.update_virtual_points(state.displacement);
+    state.displacement.update_ghost_values();
+    model.compute_forces(true);
+    return post.energies();
+  }
+
+  bool
+  Adaptivity::check(const unsigned int step, const double time, const double dt)
+  {
+    TimerOutput::Scope t(timer, "adaptivity");
+    const auto         start = std::chrono::steady_clock::now();
+    // 1. Where the indicator passes, on every rank.
+    const std::vector<Point<dim>> local = find_triggers();
+    std::vector<Point<dim>>       triggers;
+    for (const auto &part : Utilities::MPI::all_gather(comm, local))
+      triggers.insert(triggers.end(), part.begin(), part.end());
+    std::size_t marked = 0;
+    const double width = buffer_width(dt);
+    if (!triggers.empty())
+      marked = Utilities::MPI::sum(mark_cells(triggers, width), comm);
+    if (marked == 0)
+      {
+        record.conversion_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return false;
+      }
+    // 2. The state before, by identity; the new points, bonds and parts.
+    const auto     before = energies();
+    const Snapshot old    = take_snapshot();
+    rebuild(time);
+    // 3. The state after: carried over, the new points from the FE field.
+    restore(old);
+    const auto   after = energies();
+    const double jump  = after.first + after.second - before.first - before.second;
+    record.conversion_energy += jump;
+    ++record.conversions;
+    record.converted_cells += marked;
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    record.conversion_seconds += took;
+    const double bonds = Utilities::MPI::sum(double(discretization.bonds.n_bonds()), comm);
+    pcout << "Adaptivity: step " << step << ", t = " << sci(time, 6) << ": " << marked << " cells converted ("
+          << triggers.size() << " marked by the indicator, buffer " << sci(width, 4) << "), "
+          << discretization.cloud.n_global() << " points, " << std::setprecision(12) << bonds
+          << " bonds; kinetic " << sci(before.first, 6) << " -> " << sci(after.first, 6) << ", strain "
+          << sci(before.second, 6) << " -> " << sci(after.second, 6) << ": energy jump " << sci(jump, 3) << " ("
+          << sci(jump / std::max(std::abs(before.first + before.second), std::numeric_limits<double>::min()), 3)
+          << " relative); " << sci(took, 3) << " s" << std::endl;
+    return true;
+  }
+
+  // ------------------------------------------------------------ state transfer
+
+
+
+
+  Adaptivity::Snapshot
+  Adaptivity::take_snapshot() const
+  {
+    const PointCloud &cloud = discretization.cloud;
+    const Bonds      &bonds = discretization.bonds;
+    Snapshot          old;
+    const unsigned int n = cloud.n_owned();
+    old.keys.assign(cloud.key.begin(), cloud.key.begin() + n);
+    old.order.resize(n);
+    for (unsigned int i = 0; i < n; ++i)
+      old.order[i] = i;
+    std::sort(old.order.begin(), old.order.end(), [&](const unsigned int a, const unsigned int b) {
+      return old.keys[a] < old.keys[b];
+    });
+    old.real.resize(n);
+    for (unsigned int i = 0; i < n; ++i)
+      old.real[i] = !discretization.is_virtual(i) && !cloud.is_extra(i);
+    old.u.assign(state.displacement.begin(), state.displacement.begin() + dim * n);
+    old.v.assign(state.velocity.begin(), state.velocity.begin() + dim * n);
+    // Each family sorted by the far end's key: a bond is found again by it.
+    old.offsets.assign(bonds.offsets.begin(), bonds.offsets.begin() + n + 1);
+    old.neighbor.resize(bonds.n_bonds());
+    old.bond.resize(bonds.n_bonds());
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+          {
+            old.neighbor[b] = cloud.key[bonds.neighbor[b]];
+            old.bond[b]     = b;
+          }
+        std::vector<std::pair<PointKey, std::size_t>> family;
+        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+          family.emplace_back(old.neighbor[b], b);
+        std::sort(family.begin(), family.end());
+        for (std::size_t k = 0; k < family.size(); ++k)
+          {
+            old.neighbor[bonds.offsets[i] + k] = family[k].first;
+            old.bond[bonds.offsets[i] + k]     = family[k].second;
+          }
+      }
+    old.broken = model.broken;
+    old.damage = model.damage;
+    old.history = std::make_unique<FieldStore>(model.field_store());
+    // The FE field cell by cell, with the element it had.
+    ContinuumField &fe = coupling.continuum;
+    fe.U.update_ghost_values();
+    fe.V.update_ghost_values();
+    old.cell_u.resize(discretization.triangulation.n_active_cells());
+    old.cell_v.resize(old.cell_u.size());
+    old.cell_fe.assign(old.cell_u.size(), 0);
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        {
+          const unsigned int c = cell->active_cell_index();
+          old.cell_fe[c]       = cell->active_fe_index();
+          Vector<double> u(cell->get_fe().n_dofs_per_cell()), v(u.size());
+          cell->get_dof_values(fe.U, u);
+          cell->get_dof_values(fe.V, v);
+          old.cell_u[c].assign(u.begin(), u.end());
+          old.cell_v[c].assign(v.begin(), v.end());
+        }
+    fe.V.zero_out_ghost_values();
+    return old;
+  }
+
+  unsigned int
+  Adaptivity::old_point(const Snapshot &old, const PointKey &key) const
+  {
+    const auto it = std::lower_bound(old.order.begin(), old.order.end(), key,
+                                     [&](const unsigned int a, const PointKey &k) { return old.keys[a] < k; });
+    return it != old.order.end() && old.keys[*it] == key ? *it : numbers::invalid_unsigned_int;
+  }
+
+  void
+  Adaptivity::restore(const Snapshot &old)
+  {
+    const PointCloud  &cloud = discretization.cloud;
+    const unsigned int n     = cloud.n_owned();
+    std::vector<unsigned int> point_map(n, numbers::invalid_unsigned_int);
+    const MappingQ1<dim>      mapping;
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        point_map[i] = old_point(old, cloud.key[i]);
+        if (discretization.is_virtual(i) || cloud.is_extra(i))
+          continue; // they follow the FE field
+        // (A level-0 virtual point had the key of its cell's new point:
+        // its u and v are the FE field's, taken below as for the others.)
+        if (point_map[i] != numbers::invalid_unsigned_int && old.real[point_map[i]])
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              state.displacement.local_element(dim * i + d) = old.u[dim * point_map[i] + d];
+              state.velocity.local_element(dim * i + d)     = old.v[dim * point_map[i] + d];
+            }
+        else
+          {
+            // A converted cell's point: its own cell's FE field at the centroid.
+            const CellIterator &cell = cloud.cell[i];
+            const unsigned int  c    = cell->active_cell_index();
+            AssertThrow(old.cell_fe[c] > 0, ExcInternalError());
+            const FiniteElement<dim> &fe   = discretization.fe[old.cell_fe[c]];
+            const Point<dim>          unit = mapping.transform_real_to_unit_cell(cell, cloud.position(i));
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                state.displacement.local_element(dim * i + d) = 0;
+                state.velocity.local_element(dim * i + d)     = 0;
+              }
+            for (unsigned int k = 0; k < fe.n_dofs_per_cell(); ++k)
+              {
+                const unsigned int d   = fe.system_to_component_index(k).first;
+                const double       phi = fe.shape_value_component(k, unit, d);
+                state.displacement.local_element(dim * i + d) += phi * old.cell_u[c][k];
+                state.velocity.local_element(dim * i + d) += phi * old.cell_v[c][k];
+              }
+          }
+      }
+    // The FE field of the cells that stay FE, from their own values.
+    ContinuumField &fe = coupling.continuum;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        {
+          const unsigned int c = cell->active_cell_index();
+          AssertThrow(old.cell_fe[c] == cell->active_fe_index(), ExcInternalError());
+          std::vector<types::global_dof_index> dofs(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          for (unsigned int k = 0; k < dofs.size(); ++k)
+            if (fe.U.in_local_range(dofs[k]))
+              {
+                fe.U(dofs[k]) = old.cell_u[c][k];
+                fe.V(dofs[k]) = old.cell_v[c][k];
+              }
+        }
+    state.distribute_displacement();
+    state.distribute_velocity();
+    restore_bonds(old, point_map);
+  }
+
+  void
+  Adaptivity::restore_bonds(const Snapshot &old, const std::vector<unsigned int> &point_map)
+  {
+    const PointCloud &cloud = discretization.cloud;
+    const Bonds      &bonds = discretization.bonds;
+    std::vector<std::size_t> bond_map(bonds.n_bonds(), std::size_t(-1));
+    // The bonds that existed keep their damage; new ones start intact (or
+    // as the initial damage makes them).
+    for (unsigned int i = 0; i < point_map.size(); ++i)
+      if (point_map[i] != numbers::invalid_unsigned_int)
+        {
+          const unsigned int o     = point_map[i];
+          const auto         first = old.neighbor.begin() + old.offsets[o], last = old.neighbor.begin() + old.offsets[o + 1];
+          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+            {
+              const PointKey &key = cloud.key[bonds.neighbor[b]];
+              const auto      it  = std::lower_bound(first, last, key);
+              if (it != last && *it == key)
+                bond_map[b] = old.bond[it - old.neighbor.begin()];
+            }
+        }
+    for (std::size_t b = 0; b < bond_map.size(); ++b)
+      if (bond_map[b] != std::size_t(-1))
+        {
+          if (!model.broken.empty() && !old.broken.empty())
+            model.broken[b] = old.broken[bond_map[b]];
+          if (!model.damage.empty() && !old.damage.empty())
+            model.damage[b] = old.damage[bond_map[b]];
+        }
+    model.field_store().carry_history(*old.history, point_map, bond_map);
+  }
+} // namespace perideal
