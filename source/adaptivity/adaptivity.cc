@@ -268,8 +268,9 @@ namespace perideal
     std::vector<std::uint8_t> &converted = discretization.converted;
     if (converted.empty())
       converted.assign(discretization.triangulation.n_active_cells(), 0);
-    const auto  tree  = pack_rtree(triggers);
-    std::size_t owned = 0;
+    const auto              tree  = pack_rtree(triggers);
+    std::size_t             owned = 0;
+    std::vector<Point<dim>> nearest; // reused: no allocation per cell
     // Owned and ghost cells alike, from the same triggers: every rank agrees
     // on the cells it shares.
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
@@ -280,7 +281,7 @@ namespace perideal
               parameters.convertible.end())
             continue;
           const Point<dim>        x = cell->center();
-          std::vector<Point<dim>> nearest;
+          nearest.clear();
           tree.query(bgi::nearest(x, 1), std::back_inserter(nearest));
           if (!nearest.empty() && nearest[0].distance(x) <= width)
             {
