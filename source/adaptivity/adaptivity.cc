@@ -52,7 +52,7 @@ namespace perideal
     prm.enter_subsection("Adaptivity");
     prm.declare_entry("Convertible blocks", "", Patterns::Anything(),
                       "Continuum blocks whose cells may turn into peridynamic cells during the run (comma "
-                      "separated); empty: no conversion. Explicit (Verlet) runs (doc/adaptivity.md).");
+                      "separated); empty: no conversion. Verlet, QuasiStatic and Newmark runs (doc/adaptivity.md).");
     prm.declare_entry("Peridynamic block", "", Patterns::Anything(),
                       "The peridynamic block whose material, damage model and horizon a converted cell takes. "
                       "Its Material must be the convertible blocks' own, so that a cell keeps its constants.");
@@ -67,14 +67,15 @@ namespace perideal
                       "buffer of it.");
     prm.declare_entry("Threshold", "0.5", Patterns::Double(),
                       "The fraction of the indicator's critical value at which a cell converts (> 0).");
-    prm.declare_entry("Check interval", "10", Patterns::Integer(1),
-                      "Steps between two checks of the indicator.");
+    prm.declare_entry("Check interval", "0", Patterns::Integer(0),
+                      "Steps between two checks of the indicator. 0: every 10 steps of an explicit solver "
+                      "(Verlet), after every accepted step of an implicit one (QuasiStatic, Newmark).");
     prm.declare_entry("Buffer width", "0", Patterns::Double(0),
                       "The convertible cells whose centres lie within this distance of a marked cell (or "
                       "damaged point) convert with it. 0: the rule horizon + blending band + the distance "
-                      "the fastest wave of the convertible blocks travels in Check interval steps, so that "
-                      "no point whose bonds may break reaches an FE cell before the next check. Given: at "
-                      "least the Peridynamic block's horizon.");
+                      "the fastest wave of the convertible blocks travels in Check interval steps (none in "
+                      "quasistatic load steps), so that no point whose bonds may break reaches an FE cell "
+                      "before the next check. Given: at least the Peridynamic block's horizon.");
     prm.leave_subsection();
   }
 
@@ -193,9 +194,17 @@ namespace perideal
                                                                                       "strain energy density / (E s_c^2 / 2)" :
                                                                                       "largest principal strain / s_c";
     pcout << "  adaptivity:        " << blocks << " -> " << parameters.pd_block_name << " where " << what
-          << " >= " << parameters.threshold << ", checked every " << parameters.check_interval << " steps, buffer "
-          << sci(buffer_width(record.dt), 4) << (parameters.buffer > 0 ? " (given)" : " (the rule, at this step)")
-          << "\n";
+          << " >= " << parameters.threshold << ", checked "
+          << (interval == 1 ? std::string("after every step") : "every " + std::to_string(interval) + " steps")
+          << ", buffer " << sci(buffer_width(record.dt), 4)
+          << (parameters.buffer > 0 ? " (given)" : inertia ? " (the rule, at this step)" : " (the rule)") << "\n";
+  }
+
+  void
+  Adaptivity::use_integrator(const bool explicit_steps, const bool with_inertia)
+  {
+    interval = parameters.check_interval > 0 ? parameters.check_interval : explicit_steps ? 10 : 1;
+    inertia  = with_inertia;
   }
 
   double
@@ -204,7 +213,7 @@ namespace perideal
     if (parameters.buffer > 0)
       return parameters.buffer;
     const double horizon = discretization.blocks[parameters.pd_block].horizon;
-    return horizon * (1 + discretization.blending()) + wave_speed * parameters.check_interval * dt;
+    return horizon * (1 + discretization.blending()) + (inertia ? wave_speed * interval * dt : 0.0);
   }
 
   double
@@ -327,7 +336,9 @@ namespace perideal
     // 3. The state after: carried over, the new points from the FE field.
     restore(old);
     const auto   after = energies();
-    const double jump  = after.first + after.second - before.first - before.second;
+    // Without inertia a velocity is no motion (QuasiStatic's Velocity = load
+    // step): the strain energy alone, as in the balance.
+    const double jump = (inertia ? after.first - before.first : 0.0) + after.second - before.second;
     record.conversion_energy += jump;
     ++record.conversions;
     record.converted_cells += marked;
@@ -337,11 +348,26 @@ namespace perideal
     pcout << "Adaptivity: step " << step << ", t = " << sci(time, 6) << ": " << marked << " cells converted ("
           << triggers.size() << " marked by the indicator, buffer " << sci(width, 4) << "), "
           << discretization.cloud.n_global() << " points, " << std::setprecision(12) << bonds
-          << " bonds; kinetic " << sci(before.first, 6) << " -> " << sci(after.first, 6) << ", strain "
-          << sci(before.second, 6) << " -> " << sci(after.second, 6) << ": energy jump " << sci(jump, 3) << " ("
-          << sci(jump / std::max(std::abs(before.first + before.second), std::numeric_limits<double>::min()), 3)
-          << " relative); " << sci(took, 3) << " s" << std::endl;
+          << " bonds; ";
+    if (inertia)
+      pcout << "kinetic " << sci(before.first, 6) << " -> " << sci(after.first, 6) << ", ";
+    const double scale = (inertia ? std::abs(before.first) : 0.0) + std::abs(before.second);
+    pcout << "strain " << sci(before.second, 6) << " -> " << sci(after.second, 6) << ": energy jump " << sci(jump, 3)
+          << " (" << sci(jump / std::max(scale, std::numeric_limits<double>::min()), 3) << " relative); "
+          << sci(took, 3) << " s" << std::endl;
     return true;
+  }
+
+  void
+  Adaptivity::restore_converted(const std::vector<std::uint8_t> &converted)
+  {
+    const bool any = std::any_of(converted.begin(), converted.end(), [](const std::uint8_t c) { return c != 0; });
+    if (Utilities::MPI::max(any ? 1u : 0u, comm) == 0)
+      return;
+    discretization.converted = converted;
+    // The loads are evaluated again for the checkpoint's time by the
+    // integrator; the record (conversions, jumps) comes with the state.
+    rebuild(0.0);
   }
 
   // ------------------------------------------------------------ state transfer

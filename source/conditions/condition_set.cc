@@ -126,6 +126,29 @@ namespace perideal
   }
 
   void
+  ConditionSet::take_constraint_state()
+  {
+    constraint_force.resize(constraints.size());
+    constraint_displacement.resize(constraints.size());
+    for (unsigned int c = 0; c < constraints.size(); ++c)
+      {
+        constraint_force[c]        = state.f(constraints[c].dof);
+        constraint_displacement[c] = state.u(constraints[c].dof);
+      }
+  }
+
+  void
+  ConditionSet::keep_integrated(const std::vector<double> &integrated)
+  {
+    for (unsigned int c = 0; c < constraints.size(); ++c)
+      if (conditions[constraints[c].condition].type == BoundaryCondition::Type::prescribed_velocity)
+        {
+          constraint_displacement[c]   = integrated[c];
+          state.u(constraints[c].dof) = integrated[c];
+        }
+  }
+
+  void
   ConditionSet::apply_initial_conditions(const double initial_time)
   {
     state.displacement = 0;

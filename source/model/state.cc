@@ -161,10 +161,11 @@ namespace perideal
     out.section("run record");
     for (const double x : {dt, dt_stable, external_work, initial_energy, last_strain_energy, last_kinetic_energy,
                            dissipated_energy, material_dissipation, last_contact_energy, contact_dissipation,
-                           shortest_dt, last_newton.residual, smallest_step_fraction})
+                           shortest_dt, last_newton.residual, smallest_step_fraction, conversion_energy,
+                           converted_cells, conversion_seconds})
       out.put(x);
     for (const unsigned int n : {shortened_steps, last_newton.newton_iterations, last_newton.linear_iterations,
-                                 last_damage_solves, step_cuts})
+                                 last_damage_solves, step_cuts, conversions})
       out.put(n);
     out.put(warnings);
   }
@@ -175,10 +176,11 @@ namespace perideal
     in.section("run record");
     for (double *x : {&dt, &dt_stable, &external_work, &initial_energy, &last_strain_energy, &last_kinetic_energy,
                       &dissipated_energy, &material_dissipation, &last_contact_energy, &contact_dissipation,
-                      &shortest_dt, &last_newton.residual, &smallest_step_fraction})
+                      &shortest_dt, &last_newton.residual, &smallest_step_fraction, &conversion_energy,
+                      &converted_cells, &conversion_seconds})
       in.get(*x);
     for (unsigned int *n : {&shortened_steps, &last_newton.newton_iterations, &last_newton.linear_iterations,
-                            &last_damage_solves, &step_cuts})
+                            &last_damage_solves, &step_cuts, &conversions})
       in.get(*n);
     in.get(warnings);
   }

@@ -634,11 +634,6 @@ namespace perideal
     if (deck.adaptivity.active())
       {
         // What a conversion does not carry over yet (doc/adaptivity.md).
-        AssertThrow(deck.solver.type == "Verlet" && std::all_of(deck.stages.begin(), deck.stages.end(), [](const SolverStage &s) {
-                      return s.solver.type == "Verlet";
-                    }),
-                    ExcMessage("Adaptivity/Convertible blocks: cells convert in explicit runs only (Solver/Type = "
-                               "Verlet, also in Solver stages) for now"));
         AssertThrow(!deck.contact.active(),
                     ExcMessage("Adaptivity/Convertible blocks: not available with Contact yet (the contact "
                                "search is not rebuilt after a conversion)"));

@@ -66,12 +66,8 @@ namespace perideal
       }
     state.number_dofs(*discretization, coupling ? &coupling->continuum : nullptr);
     conditions = std::make_unique<ConditionSet>(deck.conditions, *discretization, state, record, comm);
-    conditions->setup(coupling.get());
     post = std::make_unique<Postprocess>(deck, *discretization, *model, *conditions, state, record, comm, pcout, timer);
-    post->setup(coupling.get());
-    conditions->setup_constraints();
-    model->rigid.check_constraints(*conditions);
-    model->attach(conditions->body_force, coupling.get());
+    connect_conditions();
     if (deck.contact.active())
       {
         TimerOutput::Scope t(timer, "setup: contact");
@@ -85,11 +81,9 @@ namespace perideal
     record.dt_stable = model->stable_time_step();
     if (deck.adaptivity.active())
       {
-        AssertThrow(restart.empty(),
-                    ExcMessage("--restart: a run with Adaptivity cannot be restarted yet (the converted cells "
-                               "are not part of the checkpoint); run it from the start"));
         adaptivity = std::make_unique<Adaptivity>(deck.adaptivity, *discretization, *model, *coupling, *post, state,
                                                   record, comm, pcout, timer, [this](const double time) { rebuild(time); });
+        adaptivity->use_integrator(deck.solver.type == "Verlet", deck.solver.type != "QuasiStatic");
       }
     // The stages still to come are checked now, not when they start (after
     // the ones before them have run and written their output).
@@ -131,11 +125,7 @@ namespace perideal
     {
       TimerOutput::Scope t(timer, "rebuild: conditions and computes");
       state.number_dofs(*discretization, &coupling->continuum);
-      conditions->setup(coupling.get());
-      post->setup(coupling.get());
-      conditions->setup_constraints();
-      model->rigid.check_constraints(*conditions);
-      model->attach(conditions->body_force, coupling.get());
+      connect_conditions();
       conditions->evaluate_loads(time);
     }
     {
@@ -148,6 +138,16 @@ namespace perideal
     for (const auto &w : found)
       if (std::find(record.warnings.begin(), record.warnings.end(), w) == record.warnings.end())
         record.warnings.push_back(w);
+  }
+
+  void
+  Simulation::connect_conditions()
+  {
+    conditions->setup(coupling.get());
+    post->setup(coupling.get());
+    conditions->setup_constraints();
+    model->rigid.check_constraints(*conditions);
+    model->attach(conditions->body_force, coupling.get());
   }
 
   void

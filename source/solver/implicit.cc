@@ -60,6 +60,14 @@ namespace perideal
                       "per iteration), "
                       "preconditioned by the inverse 3x3 diagonal blocks of the analytic tangent (9 "
                       "numbers per point instead of the matrix). Needs materials with an analytic tangent.");
+    prm.declare_entry("Keep tangent below contraction", "0", Patterns::Double(0, 1),
+                      "0: a new tangent every iteration (full Newton, quadratic convergence). Above 0 (e.g. "
+                      "1e-3): a Newton iteration that reduced |R| by this factor or more (|R_new| <= this x "
+                      "|R|, with a full step) leaves its tangent and preconditioner to the next iteration: the "
+                      "problem is nearly linear there, and the kept tangent converges about as fast as a new "
+                      "one (a linear problem's second iteration costs one linear solve, no assembly; the last "
+                      "iteration converges linearly instead of quadratically). An iteration on a kept tangent "
+                      "that does not reduce |R| is done again with a new tangent.");
     prm.declare_entry("Maximum damage solves", "20", Patterns::Integer(1),
                       "After a converged solve the damage models break bonds; the step is solved "
                       "again while bonds break, at most this many times (then a warning).");
@@ -90,6 +98,7 @@ namespace perideal
     max_linear         = prm.get_integer("Maximum linear iterations");
     tangent            = prm.get("Tangent");
     jacobian           = prm.get("Jacobian");
+    keep_tangent_contraction = prm.get_double("Keep tangent below contraction");
     AssertThrow(jacobian == "Assembled" || tangent == "Analytic",
                 ExcMessage("Solver/Implicit/Jacobian = Matrix free needs Tangent = Analytic (its "
                            "preconditioner is the analytic tangent's diagonal)"));

@@ -5,6 +5,7 @@
 // mass, by Newton's method (implicit_solver.h; the tangent gains M / (beta
 // dt^2)). Beta and gamma are Solver/Implicit/Newmark beta and gamma.
 
+#include <perideal/adaptivity/adaptivity.h>
 #include <perideal/base/format.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/postprocess.h>
@@ -88,8 +89,29 @@ namespace perideal
       {
         return false;
       }
+      /// After cells converted: the solver for the new numbering, and the
+      /// accelerations from the equation of motion, as at the start.
+      void
+      take_conversion() override
+      {
+        ImplicitIntegrator::take_conversion();
+        accelerations_from_forces();
+        v_predicted.assign(access->state.size(), 0.0);
+        implicit_solver->u_predicted.assign(access->state.size(), 0.0);
+      }
 
     private:
+      /// a = f / rho at every DoF (virtual points have no mass: they follow
+      /// the FE field), from the forces evaluated last.
+      void
+      accelerations_from_forces()
+      {
+        MechanicalState &state = access->state;
+        state.acceleration.assign(state.size(), 0.0);
+        state.for_each([&](const MechanicalState::DoF &d) {
+          state.acceleration[d.number] = d.density > 0 ? d.f / d.density : 0.0;
+        });
+      }
       void
       do_initial_timestep();
       void
@@ -119,11 +141,12 @@ namespace perideal
       if (!continues)
         access->conditions.apply_initial_conditions(solver.initial_time);
       access->model.breaking_allowed = false;
-      ImplicitSolver &newton         = make_solver();
+      if (access->adaptivity)
+        access->adaptivity->use_integrator(false, true);
+      make_solver();
       access->stop_if_interrupted_in_setup();
 
-      // The initial acceleration from the equation of motion (virtual points
-      // have no mass: they follow the FE field).
+      // The initial acceleration from the equation of motion.
       state.acceleration.assign(state.size(), 0.0);
       if (restart)
         restore_run(n_steps);
@@ -132,18 +155,17 @@ namespace perideal
           // A stage that continues starts from the forces the one before left.
           if (!continues)
             access->evaluate_initial_state();
-          state.for_each([&](const MechanicalState::DoF &d) {
-            state.acceleration[d.number] = d.density > 0 ? d.f / d.density : 0.0;
-          });
+          accelerations_from_forces();
           if (!continues)
             access->record_initial_state(n_steps, t0);
         }
+      // (A restart after a conversion has set the solver up again.)
       access->pcout << "Newmark (beta " << beta << ", gamma " << gamma << "): " << n_steps << " steps of "
-                    << sci(access->record.dt, 6) << " from t = " << t0 << "; tangent " << newton.describe_tangent()
-                    << std::endl;
+                    << sci(access->record.dt, 6) << " from t = " << t0 << "; tangent "
+                    << implicit_solver->describe_tangent() << std::endl;
 
       v_predicted.assign(state.size(), 0.0);
-      newton.u_predicted.assign(state.size(), 0.0);
+      implicit_solver->u_predicted.assign(state.size(), 0.0);
       start_loop();
     }
 
@@ -153,7 +175,6 @@ namespace perideal
       MechanicalState    &state      = access->state;
       RunRecord          &record     = access->record;
       ConditionSet       &conditions = access->conditions;
-      ImplicitSolver     &newton     = *implicit_solver;
       const double        dt         = record.dt;
       const double        time       = t0 + step * dt;
       std::vector<double> &a         = state.acceleration;
@@ -162,6 +183,8 @@ namespace perideal
       advance(
         step, t0 + (step - 1) * dt, time, dt, n_steps,
         [&](const double t, const double h) {
+          // The solver of this (sub-)step: a conversion sets up a new one.
+          ImplicitSolver &newton = *implicit_solver;
           state.for_each([&](const MechanicalState::DoF &d) {
             const unsigned int k  = d.number;
             newton.u_predicted[k] = d.u + h * d.v + 0.5 * h * h * (1 - 2 * beta) * a[k];
@@ -176,6 +199,7 @@ namespace perideal
           newton.newmark_inertia = 1 / (beta * h * h);
         },
         [&](const double h) {
+          const ImplicitSolver &newton = *implicit_solver;
           state.for_each([&](const MechanicalState::DoF &d) {
             const unsigned int k = d.number;
             a[k]                 = (d.u - newton.u_predicted[k]) * newton.newmark_inertia;

@@ -3,6 +3,7 @@
 // solve with its line search and the re-solves while bonds break, the load
 // path's work; and what QuasiStatic and Newmark share (ImplicitIntegrator).
 
+#include <perideal/adaptivity/adaptivity.h>
 #include <perideal/base/best_point.h>
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
@@ -580,6 +581,7 @@ namespace perideal
     rebuild_amg                = true; // a new solve builds its own hierarchy
     const double        r_start   = r;
     pcout << "  Newton 0: |R| = " << sci(r, 4) << std::endl;
+    bool keep_tangent = false; // the last iteration contracted |R| enough
     for (unsigned int it = 1;; ++it)
       {
         const double target = std::max(implicit.tolerance * std::max(r_start, forces), implicit.absolute_tolerance);
@@ -593,7 +595,9 @@ namespace perideal
                              "Solver/Implicit/Maximum Newton iterations";
             break;
           }
-        assemble_tangent();
+        const bool kept = keep_tangent;
+        if (!kept)
+          assemble_tangent();
         unsigned int linear = 0;
         if (free_basis.empty())
           linear = solve_linear(R, du);
@@ -622,6 +626,18 @@ namespace perideal
             if (!implicit.line_search || (std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r) || cuts == 10)
               break;
             alpha /= 2;
+          }
+        if (kept && !(std::isfinite(r_new) && r_new < r))
+          {
+            // The kept tangent no longer leads down: the same iteration
+            // again with a new one.
+            for (unsigned int k = 0; k < n; ++k)
+              unknown(k) = u0[k];
+            r            = residual(R, forces);
+            keep_tangent = false;
+            pcout << "  Newton " << it << ": the kept tangent gave |R| = " << sci(r_new, 4)
+                  << ": again with a new tangent" << std::endl;
+            continue;
           }
         if (!std::isfinite(r_new))
           {
@@ -652,9 +668,11 @@ namespace perideal
             break;
           }
         pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << implicit.linear_solver << " "
-              << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string()) << ")"
-              << std::endl;
-        r = r_new;
+              << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string())
+              << (kept ? ", tangent kept" : "") << ")" << std::endl;
+        keep_tangent = implicit.keep_tangent_contraction > 0 && alpha == 1 &&
+                       r_new <= implicit.keep_tangent_contraction * r;
+        r            = r_new;
         result.newton_iterations = it;
       }
     result.residual = r;
@@ -748,6 +766,58 @@ namespace perideal
   }
 
   void
+  ImplicitIntegrator::take_conversion()
+  {
+    access->conditions.take_constraint_state();
+    make_solver();
+  }
+
+  double
+  ImplicitIntegrator::accept(const double dt, const std::function<void(double)> &complete,
+                             const ImplicitSolver::LoadPathState &load_start)
+  {
+    complete(dt);
+    access->state.displacement.update_ghost_values();
+    access->model.compute_forces(true);
+    // The converged state is the sub-step's: its history is the next
+    // one's start (Newton's iterations and line searches each
+    // recomputed it from the last commit).
+    access->model.commit_step();
+    return implicit_solver->load_path_work(load_start);
+  }
+
+  NewtonResult
+  ImplicitIntegrator::solve_again(const unsigned int step, const double t_end, const double dt,
+                                  const std::function<void(double, double)> &prepare,
+                                  const std::function<void(double)>         &complete)
+  {
+    RunRecord  &record = access->record;
+    const auto  before = access->post.energies();
+    const double released_before = record.dissipated_energy;
+    const ImplicitSolver::LoadPathState load_start = implicit_solver->load_path_state();
+    // The step again: prescribed displacements for the new points and
+    // nodes, the prescribed velocities' displacements as integrated once.
+    const std::vector<double> integrated = access->conditions.constraint_displacement;
+    prepare(t_end, dt);
+    access->conditions.keep_integrated(integrated);
+    const bool converged = implicit_solver->solve_step(step);
+    AssertThrow(converged, ExcMessage(record.last_newton.failure + " (the load step solved again after cells "
+                                                                   "converted: Adaptivity)"));
+    const double work  = accept(dt, complete, load_start);
+    record.external_work += work;
+    const auto   after = access->post.energies();
+    // What the carried state gives up on its way to the new equilibrium
+    // (beyond the energy the bonds that broke released) is the
+    // conversion's, as its jump is. No inertia: strain energy only.
+    const double relaxed = after.second + record.dissipated_energy - released_before - before.second - work;
+    record.conversion_energy += relaxed;
+    access->pcout << "  solved again at t = " << sci(t_end, 6) << " after the conversion: strain energy "
+                  << sci(before.second, 6) << " -> " << sci(after.second, 6) << ", relaxation " << sci(relaxed, 3)
+                  << " (counted with the conversion's jump)" << std::endl;
+    return record.last_newton;
+  }
+
+  void
   ImplicitIntegrator::check_jacobian(const SolverParameters &solver, const bool has_continuum)
   {
     AssertThrow(!has_continuum || solver.implicit.jacobian == "Assembled",
@@ -818,7 +888,8 @@ namespace perideal
     unsigned int                  solves = 0;
     const bool                    cut    = implicit.adaptive_steps;
     ImplicitSolver::LoadPathState load_start;
-    bool                          retry = false; // the sub-step starts where a failed one started
+    bool                          retry  = false;   // the sub-step starts where a failed one started
+    double                        t_last = t_start; // where the last sub-step started
     for (double t = t_start; t < t_end;)
       {
         // The last sub-step ends at t_end exactly: no sliver from round-off.
@@ -860,18 +931,28 @@ namespace perideal
           }
         retry = false;
         const bool easy = record.last_newton.newton_iterations <= implicit.max_newton / 2;
-        complete(dt);
-        access->state.displacement.update_ghost_values();
-        access->model.compute_forces(true);
-        // The converged state is the sub-step's: its history is the next
-        // one's start (Newton's iterations and line searches each
-        // recomputed it from the last commit).
-        access->model.commit_step();
-        record.external_work += implicit_solver->load_path_work(load_start);
+        record.external_work += accept(dt, complete, load_start);
+        t_last = t;
         t = t_next;
         if (easy && step_fraction < 1)
           step_fraction *= 2;
       }
+    // Cells convert after the accepted step (Adaptivity). Without inertia
+    // the step is solved again at its load on the new discretization: its
+    // output is an equilibrium, bonds may break on in the converted cells
+    // (and convert more), so that a crack runs as far in one load step as
+    // it would in all-PD.
+    if (access->adaptivity && step < n_steps && access->adaptivity->due(step))
+      while (access->adaptivity->check(step, t_end, dt_step))
+        {
+          take_conversion();
+          if (access->adaptivity->has_inertia())
+            break;
+          const NewtonResult again = solve_again(step, t_end, t_end - t_last, prepare, complete);
+          sum.newton_iterations += again.newton_iterations;
+          sum.linear_iterations += again.linear_iterations;
+          solves += record.last_damage_solves;
+        }
     record.last_newton        = sum;
     record.last_damage_solves = solves;
     total_newton += sum.newton_iterations;
@@ -916,6 +997,9 @@ namespace perideal
   ImplicitIntegrator::restore_run(const unsigned int n_steps)
   {
     restore_checkpoint();
+    // Cells converted before the checkpoint: the solver of the new numbering.
+    if (access->adaptivity && access->adaptivity->any_converted())
+      make_solver();
     AssertThrow(!access->last_stage || completed_step < n_steps,
                 ExcMessage("--restart '" + access->restart + "': the checkpoint is of the run's last step (" +
                            std::to_string(completed_step) + "): nothing is left to run"));

@@ -16,6 +16,7 @@
 // The displacement at the start of the load step is kept for both, and a
 // checkpoint carries it.
 
+#include <perideal/adaptivity/adaptivity.h>
 #include <perideal/base/format.h>
 #include <perideal/model/force_model.h>
 #include <perideal/output/checkpoint.h>
@@ -86,6 +87,19 @@ namespace perideal
       {
         return true;
       }
+      /// After cells converted: the solver of the new numbering, and the
+      /// load step's start in it, u - v dt (v carried over: the load step's
+      /// with Velocity = load step, 0 at rest), for the velocity of the
+      /// step's solve on the new discretization.
+      void
+      take_conversion() override
+      {
+        ImplicitIntegrator::take_conversion();
+        MechanicalState &state = access->state;
+        u_step_start.resize(state.size());
+        for (unsigned int k = 0; k < state.size(); ++k)
+          u_step_start[k] = state.u(k) - (velocity_of_load_steps ? state.v(k) * dt_load : 0.0);
+      }
       void
       save_state(CheckpointWriter &out) const override;
       void
@@ -128,6 +142,8 @@ namespace perideal
       if (!continues)
         access->conditions.apply_initial_conditions(solver.initial_time);
       access->model.breaking_allowed = false;
+      if (access->adaptivity)
+        access->adaptivity->use_integrator(false, false);
       make_solver();
       access->stop_if_interrupted_in_setup();
       access->pcout << "Quasistatic: " << n_steps << " load steps from t = " << t0 << " to " << t1 << "; tangent "

@@ -1,5 +1,6 @@
 // The steps every integrator shares (time_integrator.h).
 
+#include <perideal/adaptivity/adaptivity.h>
 #include <perideal/base/format.h>
 #include <perideal/base/interrupt.h>
 #include <perideal/continuum/coupling.h>
@@ -130,6 +131,13 @@ namespace perideal
   void
   SimulatorAccess::save_parts(CheckpointWriter &out) const
   {
+    // The converted cells first: a restart makes their points and bonds
+    // before it compares the discretization and reads the state.
+    if (adaptivity)
+      {
+        out.section("converted cells");
+        out.put(discretization.converted);
+      }
     out.section("discretization");
     if (!signature_known)
       signature = compute_signature(*this);
@@ -145,6 +153,16 @@ namespace perideal
   void
   SimulatorAccess::load_parts(CheckpointReader &in) const
   {
+    if (adaptivity)
+      {
+        in.section("converted cells");
+        const auto converted = in.get<std::vector<std::uint8_t>>();
+        in.expect(converted.empty() || converted.size() == discretization.triangulation.n_active_cells(),
+                  "the converted cells are flagged over " + std::to_string(converted.size()) +
+                    " cells on this rank, the mesh has " +
+                    std::to_string(discretization.triangulation.n_active_cells()));
+        adaptivity->restore_converted(converted);
+      }
     in.section("discretization");
     const auto  there = in.get<std::array<std::uint64_t, 4>>();
     const auto  here  = compute_signature(*this);

@@ -196,6 +196,8 @@ namespace perideal
       MechanicalState        &state      = access->state;
       const MPI_Comm          comm       = access->comm;
 
+      if (access->adaptivity)
+        access->adaptivity->use_integrator(true, true);
       n_steps = solver.requested_steps;
       if (n_steps == 0)
         {
@@ -273,11 +275,16 @@ namespace perideal
                       ExcMessage("--restart '" + access->restart + "': the checkpoint is of the run's last step (" +
                                  std::to_string(step) + ", t = " + sci(time, 6) + "): nothing is left to run"));
           access->post.output.create_files(comm); // the checkpoint is accepted: now write
+          // Cells converted before the checkpoint: the arrays of the new numbering.
+          u_previous.resize(state.size());
+          v_previous.resize(state.size());
+          spacing = access->discretization.point_spacing();
+          load_previous.clear();
           if (conditions.has_loads())
             {
               conditions.evaluate_loads(time);
-              for (unsigned int k = 0; k < load_previous.size(); ++k)
-                load_previous[k] = conditions.load(k);
+              for (unsigned int k = 0; k < state.size(); ++k)
+                load_previous.push_back(conditions.load(k));
             }
         }
     }
@@ -296,6 +303,8 @@ namespace perideal
       out.put(fast_warned);
       out.put(contact_warned);
       out.put(last_percent);
+      out.put(base_time);
+      out.put(base_step);
     }
 
     void
@@ -314,6 +323,8 @@ namespace perideal
       in.get(fast_warned);
       in.get(contact_warned);
       in.get(last_percent);
+      in.get(base_time);
+      in.get(base_step);
     }
 
     bool
@@ -493,12 +504,7 @@ namespace perideal
       if (conditions.has_loads())
         for (unsigned int k = 0; k < state.size(); ++k)
           load_previous.push_back(conditions.load(k));
-      conditions.constraint_displacement.resize(conditions.constraints.size());
-      for (unsigned int c = 0; c < conditions.constraints.size(); ++c)
-        {
-          conditions.constraint_force[c]        = state.f(conditions.constraints[c].dof);
-          conditions.constraint_displacement[c] = state.u(conditions.constraints[c].dof);
-        }
+      conditions.take_constraint_state();
       if (fixed_dt == 0)
         dt_elastic = safety_factor * record.dt_stable;
       else if (fixed_dt > record.dt_stable && !unstable_warned)

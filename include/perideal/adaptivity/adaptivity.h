@@ -23,6 +23,7 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/hp/fe_values.h>
 
+#include <cstdint>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -44,11 +45,23 @@ namespace perideal
                Coupling &coupling, Postprocess &post, MechanicalState &state, RunRecord &record, const MPI_Comm comm,
                dealii::ConditionalOStream &pcout, dealii::TimerOutput &timer, std::function<void(double)> rebuild);
 
+    /// The integrator that runs now (each Solver stage's calls this):
+    /// explicit steps are checked every Check interval steps (0: 10),
+    /// implicit ones after every accepted step (or every Check interval);
+    /// without inertia (QuasiStatic) no wave moves between checks.
+    void
+    use_integrator(const bool explicit_steps, const bool with_inertia);
+    /// Whether the integrator that runs now has inertia (use_integrator()).
+    bool
+    has_inertia() const
+    {
+      return inertia;
+    }
     /// Whether step @p step is a check step.
     bool
     due(const unsigned int step) const
     {
-      return step % parameters.check_interval == 0;
+      return step % interval == 0;
     }
     /// The check after the accepted step @p step at @p time: converts the
     /// cells the indicator flags (with their buffer), rebuilds, carries the
@@ -59,13 +72,28 @@ namespace perideal
     bool
     check(const unsigned int step, const double time, const double dt);
 
+    /// A restart: the cells a checkpoint says were converted (per active
+    /// cell of this rank, empty or all 0 if none), their points, bonds and
+    /// parts made as at the conversions, before the state is read.
+    /// Collective.
+    void
+    restore_converted(const std::vector<std::uint8_t> &converted);
+    /// Whether cells have converted (in this run, or before its checkpoint:
+    /// the record comes with it).
+    bool
+    any_converted() const
+    {
+      return record.conversions > 0;
+    }
+
     /// The set-up report's line: the blocks, the indicator, the interval
     /// and the buffer with the run's time step.
     void
     report_setup() const;
 
     /// The buffer width used with time step @p dt: the parameter, or the
-    /// rule horizon + blending band + fastest wave speed x check interval x dt.
+    /// rule horizon + blending band + fastest wave speed x check interval x
+    /// dt (no wave term without inertia).
     double
     buffer_width(const double dt) const;
 
@@ -116,5 +144,7 @@ namespace perideal
     std::function<void(double)>  rebuild; // at a time: the loads of then
     double                      critical_stretch = 0; // the PD block's s_c (strain and energy indicators)
     double                      wave_speed       = 0; // the fastest P wave of the convertible blocks
+    unsigned int                interval         = 10;   // steps between checks (use_integrator())
+    bool                        inertia          = true; // waves move between checks
   };
 } // namespace perideal

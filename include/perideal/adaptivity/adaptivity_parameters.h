@@ -42,7 +42,7 @@ namespace perideal
     std::string               pd_block_name;
     Indicator                 indicator      = Indicator::principal_strain;
     double                    threshold      = 0.5;
-    unsigned int              check_interval = 10;
+    unsigned int              check_interval = 0; // 0: 10 explicit steps, every implicit step
     double                    buffer         = 0; // 0: the rule (doc/adaptivity.md)
     std::vector<unsigned int> convertible;        // block numbers
     unsigned int              pd_block = 0;

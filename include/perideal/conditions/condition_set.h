@@ -73,6 +73,17 @@ namespace perideal
     double
     support_force(const Constraint &c) const;
 
+    /// After cells converted (the constraints numbered again): each
+    /// constraint's force and displacement from the carried state.
+    void
+    take_constraint_state();
+    /// After apply_prescribed() of a step it had applied before (a load
+    /// step solved again after a conversion): each prescribed velocity's
+    /// displacement back to @p integrated, what it had integrated over the
+    /// step (constraint_displacement before), so that the step counts once.
+    void
+    keep_integrated(const std::vector<double> &integrated);
+
     /// The constraints' own state (checkpoint.h): the force of the last
     /// step and a prescribed velocity's displacement.
     void

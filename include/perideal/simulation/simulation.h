@@ -55,6 +55,11 @@ namespace perideal
     /// @p time. Collective.
     void
     rebuild(const double time);
+    /// The conditions' and computes' points and nodes, the constraints, and
+    /// the body force and continuum handed to the model: after the points
+    /// and DoFs are numbered, at the set-up and at every rebuild.
+    void
+    connect_conditions();
     /// Makes Solver stages' @p k-th solver the running one, from time @p start.
     void
     start_stage(const unsigned int k, const double start);

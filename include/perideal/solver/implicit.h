@@ -25,6 +25,7 @@ namespace perideal
     unsigned int max_linear         = 1000;
     std::string  tangent            = "Analytic";
     std::string  jacobian           = "Assembled";
+    double       keep_tangent_contraction = 0; // an iteration that reduced |R| this much keeps its tangent; 0: never
     unsigned int max_damage_solves  = 20;
     bool         adaptive_steps     = true;  // cut a step whose solve fails
     double       min_step_fraction  = 1e-3; // the smallest sub-step, per step

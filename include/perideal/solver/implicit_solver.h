@@ -216,6 +216,26 @@ namespace perideal
     advance(const unsigned int step, const double t_start, const double t_end, const double dt_step,
             const unsigned int n_steps,
             const std::function<void(double, double)> &prepare, const std::function<void(double)> &complete);
+    /// After cells converted (Adaptivity, checked by advance() after an
+    /// accepted step): the solver set up again for the new numbering
+    /// (unknowns, sparsity, coupled tangent, rigid modes); Newmark also
+    /// takes its accelerations.
+    virtual void
+    take_conversion();
+    /// After a converged (sub-)step of length @p dt: @p complete(dt), the
+    /// forces with energy, the commit of the history; returns the loads'
+    /// work since @p load_start.
+    double
+    accept(const double dt, const std::function<void(double)> &complete,
+           const ImplicitSolver::LoadPathState &load_start);
+    /// Without inertia, after cells converted: step @p step solved again at
+    /// its end time @p t_end (the last sub-step's length @p dt) on the new
+    /// discretization, bonds breaking as in any solve. The energy the state
+    /// gives up beyond the released energy and the loads' work joins the
+    /// conversion's jump; a solve that fails stops the run. Collective.
+    NewtonResult
+    solve_again(const unsigned int step, const double t_end, const double dt,
+                const std::function<void(double, double)> &prepare, const std::function<void(double)> &complete);
     /// Seconds since the loop started (start_loop()).
     double
     loop_seconds() const;
