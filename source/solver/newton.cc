@@ -848,7 +848,8 @@ namespace perideal
         into.u[k] = state.u(k);
         into.v[k] = state.v(k);
       }
-    into.a = state.acceleration;
+    into.a   = state.acceleration;
+    into.own = access->conditions.constraint_displacement;
     access->model.save_damage_state(into.damage);
     into.dissipated_energy = access->record.dissipated_energy;
   }
@@ -863,6 +864,9 @@ namespace perideal
         state.v(k) = from.v[k];
       }
     state.acceleration = from.a;
+    // A prescribed velocity integrates its displacement step by step: the
+    // cut sub-step starts from the integral at its start, not the failed one's end.
+    access->conditions.constraint_displacement = from.own;
     state.displacement.update_ghost_values();
     access->model.restore_damage_state(from.damage);
     access->record.dissipated_energy = from.dissipated_energy;

@@ -260,6 +260,7 @@ namespace perideal
     struct SubStepStart
     {
       std::vector<double>        u, v, a; // per DoF (a: Newmark)
+      std::vector<double>        own;     // per constraint: a prescribed velocity's integrated displacement
       ForceModel::DamageState    damage;
       double                     dissipated_energy = 0;
     };
