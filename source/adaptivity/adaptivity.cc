@@ -76,6 +76,11 @@ namespace perideal
                       "the fastest wave of the convertible blocks travels in Check interval steps (none in "
                       "quasistatic load steps), so that no point whose bonds may break reaches an FE cell "
                       "before the next check. Given: at least the Peridynamic block's horizon.");
+    prm.declare_entry("Buffer margin", "0", Patterns::Double(0),
+                      "When a check finds a convertible cell within the buffer, the cells within the buffer "
+                      "plus this distance convert with it: a crack that runs on finds its next cells "
+                      "converted already, and conversions come fewer and larger (doc/adaptivity.md measures "
+                      "it). 0: only the buffer.");
     prm.leave_subsection();
   }
 
@@ -95,6 +100,7 @@ namespace perideal
     threshold      = prm.get_double("Threshold");
     check_interval = prm.get_integer("Check interval");
     buffer         = prm.get_double("Buffer width");
+    margin         = prm.get_double("Buffer margin");
     prm.leave_subsection();
   }
 
@@ -197,7 +203,8 @@ namespace perideal
           << " >= " << parameters.threshold << ", checked "
           << (interval == 1 ? std::string("after every step") : "every " + std::to_string(interval) + " steps")
           << ", buffer " << sci(buffer_width(record.dt), 4)
-          << (parameters.buffer > 0 ? " (given)" : inertia ? " (the rule, at this step)" : " (the rule)") << "\n";
+          << (parameters.buffer > 0 ? " (given)" : inertia ? " (the rule, at this step)" : " (the rule)")
+          << (parameters.margin > 0 ? ", margin " + sci(parameters.margin, 4) : std::string()) << "\n";
   }
 
   void
@@ -277,11 +284,12 @@ namespace perideal
     std::vector<std::uint8_t> &converted = discretization.converted;
     if (converted.empty())
       converted.assign(discretization.triangulation.n_active_cells(), 0);
-    const auto              tree  = pack_rtree(triggers);
-    std::size_t             owned = 0;
+    const auto              tree = pack_rtree(triggers);
     std::vector<Point<dim>> nearest; // reused: no allocation per cell
     // Owned and ghost cells alike, from the same triggers: every rank agrees
     // on the cells it shares.
+    std::vector<std::pair<CellIterator, double>> candidates; // and their distances to the nearest trigger
+    bool                                         needed = false;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       if (!cell->is_artificial() && !converted[cell->active_cell_index()])
         {
@@ -289,15 +297,25 @@ namespace perideal
           if (std::find(parameters.convertible.begin(), parameters.convertible.end(), b) ==
               parameters.convertible.end())
             continue;
-          const Point<dim>        x = cell->center();
+          const Point<dim> x = cell->center();
           nearest.clear();
           tree.query(bgi::nearest(x, 1), std::back_inserter(nearest));
-          if (!nearest.empty() && nearest[0].distance(x) <= width)
+          const double distance = nearest.empty() ? std::numeric_limits<double>::max() : nearest[0].distance(x);
+          if (distance <= width + parameters.margin)
             {
-              converted[cell->active_cell_index()] = 1;
-              owned += cell->is_locally_owned();
+              candidates.emplace_back(cell, distance);
+              needed |= distance <= width;
             }
         }
+    // The margin converts with the buffer, never alone.
+    if (Utilities::MPI::max(needed ? 1u : 0u, comm) == 0)
+      return 0;
+    std::size_t owned = 0;
+    for (const auto &[cell, distance] : candidates)
+      {
+        converted[cell->active_cell_index()] = 1;
+        owned += cell->is_locally_owned();
+      }
     return owned;
   }
 

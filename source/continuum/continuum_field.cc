@@ -9,6 +9,7 @@
 #include <cmath>
 #include <algorithm>
 #include <map>
+#include <set>
 
 namespace perideal
 {
@@ -43,6 +44,50 @@ namespace perideal
     return nodes;
   }
 
+  namespace
+  {
+    /// What a cell's matrix, lumped mass and stable step depend on: the
+    /// element's degree, the model's constants and the vertices relative to
+    /// the first, rounded to 1e-10 of the decade of the cell's diameter (the
+    /// cells of a box differ in the last bits of their vertices, which would
+    /// make each one a new shape; the decade is part of the key, so that
+    /// cells alike but of different size differ).
+    std::vector<double>
+    shape_key(const CellIterator &cell, const ContinuumModel &model)
+    {
+      std::vector<double> key = model.constants();
+      key.insert(key.begin(), double(cell->get_fe().degree));
+      const double decade = std::floor(std::log10(cell->diameter()));
+      const double grid   = std::pow(10.0, decade - 10);
+      key.push_back(decade);
+      for (const unsigned int v : cell->vertex_indices())
+        for (unsigned int d = 0; d < dim; ++d)
+          key.push_back(std::round((cell->vertex(v)[d] - cell->vertex(0)[d]) / grid));
+      return key;
+    }
+
+    /// f = w A u for a symmetric n x n matrix A (row major), as the sum of
+    /// A's rows scaled by w u_j (its rows are its columns): contiguous inner
+    /// loops without horizontal sums, which the compiler vectorizes. N: n
+    /// when known at compile time, 0 otherwise.
+    template <unsigned int N>
+    void
+    weighted_product(const double *__restrict A, const double *__restrict u, const double w, double *__restrict f,
+                     const unsigned int n_runtime)
+    {
+      const unsigned int n = N > 0 ? N : n_runtime;
+      for (unsigned int i = 0; i < n; ++i)
+        f[i] = 0;
+      for (unsigned int j = 0; j < n; ++j)
+        {
+          const double *row = A + std::size_t(j) * n;
+          const double  s   = w * u[j];
+          for (unsigned int i = 0; i < n; ++i)
+            f[i] += row[i] * s;
+        }
+    }
+  } // namespace
+
   void
   ContinuumField::setup(const DoFHandler<dim>                                                &dof_handler,
                         const std::function<const ContinuumModel *(const CellIterator &)>   &model_of,
@@ -50,6 +95,7 @@ namespace perideal
                         const MPI_Comm                                                        comm_)
   {
     comm                   = comm_;
+    dofs_of_cells          = &dof_handler;
     const IndexSet &owned  = dof_handler.locally_owned_dofs();
     IndexSet        relevant;
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
@@ -63,54 +109,14 @@ namespace perideal
     DoFTools::make_hanging_node_constraints(dof_handler, hanging);
     hanging.close();
 
-    TrilinosWrappers::SparsityPattern pattern(owned, owned, relevant, comm);
-    DoFTools::make_sparsity_pattern(dof_handler, pattern, hanging, false, Utilities::MPI::this_mpi_process(comm));
-    pattern.compress();
-    K.reinit(pattern);
-
-    // Gauss p+1 on FE_Q(p) cells; DG0 (peridynamic) cells are skipped.
-    const auto          &fe_collection = dof_handler.get_fe_collection();
-    hp::QCollection<dim> quadrature;
-    for (unsigned int k = 0; k < fe_collection.size(); ++k)
-      quadrature.push_back(QGauss<dim>(std::max(1u, fe_collection[k].degree + 1)));
-    hp::FEValues<dim> hp_values(fe_collection, quadrature, update_values | update_gradients | update_JxW_values);
-    FullMatrix<double>                   cell_matrix;
-    Vector<double>                       cell_mass;
-    // Cells of the same shape, size, element and model have the same stable
-    // step: a box or a locally refined box has a handful.
-    std::map<std::vector<double>, double> step_of_shape;
-    element_step = std::numeric_limits<double>::max();
-    std::vector<types::global_dof_index> dofs;
-    n_fe_cells = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          const ContinuumModel *model = model_of(cell);
-          if (model == nullptr)
-            continue;
-          ++n_fe_cells;
-          hp_values.reinit(cell);
-          const FEValues<dim> &fe_values = hp_values.get_present_fe_values();
-          const auto          &fe        = cell->get_fe();
-          dofs.resize(fe.n_dofs_per_cell());
-          cell->get_dof_indices(dofs);
-          model->cell_matrix(fe_values, cell_matrix);
-          model->cell_lumped_mass(fe_values, cell_mass);
-          std::vector<double> shape = model->constants();
-          shape.insert(shape.begin(), double(fe.degree));
-          for (const unsigned int v : cell->vertex_indices())
-            for (unsigned int d = 0; d < dim; ++d)
-              shape.push_back(cell->vertex(v)[d] - cell->vertex(0)[d]);
-          const auto known = step_of_shape.find(shape);
-          const double step = known != step_of_shape.end() ?
-                                known->second :
-                                (step_of_shape[shape] = LinearElasticity::stable_time_step(cell_matrix, cell_mass));
-          element_step = std::min(element_step, step);
-          cell_matrix *= weight_of(cell);
-          hanging.distribute_local_to_global(cell_matrix, dofs, K);
-          hanging.distribute_local_to_global(cell_mass, dofs, mass);
-        }
-    K.compress(VectorOperation::add);
+    by_cell = Utilities::MPI::min(shapes_fit(dof_handler, model_of) ? 1u : 0u, comm) == 1;
+    K.clear();
+    matrix_from_cells = false;
+    if (!by_cell)
+      make_matrix();
+    collect_cells(dof_handler, model_of, weight_of);
+    if (!by_cell)
+      K.compress(VectorOperation::add);
     mass.compress(VectorOperation::add);
     n_fe_cells = Utilities::MPI::sum(n_fe_cells, comm);
 
@@ -122,6 +128,191 @@ namespace perideal
     std::sort(free.begin(), free.end());
     const types::global_dof_index n_fe_dofs = nodes.size();
     n_global_dofs = Utilities::MPI::sum(n_fe_dofs, comm);
+  }
+
+  bool
+  ContinuumField::shapes_fit(const DoFHandler<dim>                                              &dof_handler,
+                             const std::function<const ContinuumModel *(const CellIterator &)> &model_of) const
+  {
+    std::set<std::vector<double>> unknown;
+    std::size_t                   bytes = kept_bytes;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        if (const ContinuumModel *model = model_of(cell))
+          {
+            std::vector<double> key = shape_key(cell, *model);
+            if (cell_terms.find(key) == cell_terms.end() && unknown.insert(std::move(key)).second)
+              {
+                const std::size_t n = cell->get_fe().n_dofs_per_cell();
+                bytes += sizeof(double) * (n * n + n);
+                if (bytes > max_kept_bytes)
+                  return false;
+              }
+          }
+    return true;
+  }
+
+  void
+  ContinuumField::make_matrix()
+  {
+    const IndexSet &owned    = dofs_of_cells->locally_owned_dofs();
+    IndexSet        relevant = partitioner->ghost_indices();
+    relevant.add_indices(owned);
+    TrilinosWrappers::SparsityPattern pattern(owned, owned, relevant, comm);
+    DoFTools::make_sparsity_pattern(*dofs_of_cells, pattern, hanging, false, Utilities::MPI::this_mpi_process(comm));
+    pattern.compress();
+    K.reinit(pattern);
+  }
+
+  void
+  ContinuumField::collect_cells(const DoFHandler<dim>                                              &dof_handler,
+                                const std::function<const ContinuumModel *(const CellIterator &)> &model_of,
+                                const std::function<double(const CellIterator &)>                  &weight_of)
+  {
+    // Gauss p+1 on FE_Q(p) cells; DG0 (peridynamic) cells are skipped.
+    const auto          &fe_collection = dof_handler.get_fe_collection();
+    hp::QCollection<dim> quadrature;
+    for (unsigned int k = 0; k < fe_collection.size(); ++k)
+      quadrature.push_back(QGauss<dim>(std::max(1u, fe_collection[k].degree + 1)));
+    hp::FEValues<dim> hp_values(fe_collection, quadrature, update_values | update_gradients | update_JxW_values);
+    CellTerms                            computed;
+    FullMatrix<double>                   weighted;
+    std::vector<types::global_dof_index> dofs;
+    element_step = std::numeric_limits<double>::max();
+    n_fe_cells   = 0;
+    cells.clear();
+    cell_dofs.clear();
+    expansions.clear();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const ContinuumModel *model = model_of(cell);
+          if (model == nullptr)
+            continue;
+          ++n_fe_cells;
+          // Cells of one shape, element and model share their terms: a box or
+          // a locally refined box has a handful of shapes, and a conversion
+          // (doc/adaptivity.md) finds them known. A mesh of distinct cells
+          // keeps the first max_kept_bytes of them.
+          std::vector<double> key   = shape_key(cell, *model);
+          auto                known = cell_terms.find(key);
+          const CellTerms    *terms = known != cell_terms.end() ? &known->second : &computed;
+          if (known == cell_terms.end())
+            {
+              hp_values.reinit(cell);
+              const FEValues<dim> &fe_values = hp_values.get_present_fe_values();
+              model->cell_matrix(fe_values, computed.matrix);
+              model->cell_lumped_mass(fe_values, computed.mass);
+              computed.step = LinearElasticity::stable_time_step(computed.matrix, computed.mass);
+              const std::size_t bytes = sizeof(double) * (computed.matrix.n_elements() + computed.mass.size());
+              if (kept_bytes + bytes <= max_kept_bytes)
+                {
+                  kept_bytes += bytes;
+                  terms = &cell_terms.emplace(std::move(key), computed).first->second;
+                }
+            }
+          element_step = std::min(element_step, terms->step);
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          hanging.distribute_local_to_global(terms->mass, dofs, mass);
+          if (by_cell)
+            add_cell(terms, weight_of(cell), dofs);
+          else
+            {
+              weighted = terms->matrix;
+              weighted *= weight_of(cell);
+              hanging.distribute_local_to_global(weighted, dofs, K);
+            }
+        }
+  }
+
+  void
+  ContinuumField::add_cell(const CellTerms *terms, const double weight,
+                           const std::vector<types::global_dof_index> &dofs)
+  {
+    FECell c{terms, weight, static_cast<unsigned int>(cell_dofs.size()), static_cast<unsigned int>(expansions.size()),
+             static_cast<unsigned int>(expansions.size())};
+    for (unsigned int i = 0; i < dofs.size(); ++i)
+      {
+        cell_dofs.push_back(partitioner->global_to_local(dofs[i]));
+        if (hanging.is_constrained(dofs[i]))
+          for (const auto &[master, coefficient] : *hanging.get_constraint_entries(dofs[i]))
+            expansions.push_back({i, partitioner->global_to_local(master), coefficient});
+      }
+    c.expansions_end = expansions.size();
+    cells.push_back(c);
+  }
+
+  void
+  ContinuumField::apply_stiffness(const VectorType &src, VectorType &dst) const
+  {
+    if (!by_cell)
+      {
+        K.vmult(dst, src);
+        return;
+      }
+    // dst = C^T (sum of w_c K_c) C src: each cell's weighted matrix on its
+    // DoF values, a hanging DoF's value from its masters and its force added
+    // to them; the sums over cells of other ranks come with compress().
+    src.update_ghost_values();
+    dst = 0;
+    std::vector<double> &u = cell_u, &f = cell_f;
+    for (const FECell &c : cells)
+      {
+        const FullMatrix<double> &A = c.terms->matrix;
+        const unsigned int        n = A.m();
+        const unsigned int       *d = &cell_dofs[c.dofs];
+        u.resize(n);
+        f.resize(n);
+        for (unsigned int i = 0; i < n; ++i)
+          u[i] = src.local_element(d[i]);
+        for (unsigned int e = c.expansions_begin; e < c.expansions_end; ++e)
+          u[expansions[e].slot] = 0;
+        for (unsigned int e = c.expansions_begin; e < c.expansions_end; ++e)
+          u[expansions[e].slot] += expansions[e].coefficient * src.local_element(expansions[e].master);
+        switch (n) // the trip counts of FE_Q(1) and FE_Q(2) known to the compiler
+          {
+            case 24:
+              weighted_product<24>(&A(0, 0), u.data(), c.weight, f.data(), n);
+              break;
+            case 81:
+              weighted_product<81>(&A(0, 0), u.data(), c.weight, f.data(), n);
+              break;
+            default:
+              weighted_product<0>(&A(0, 0), u.data(), c.weight, f.data(), n);
+          }
+        for (unsigned int e = c.expansions_begin; e < c.expansions_end; ++e)
+          dst.local_element(expansions[e].master) += expansions[e].coefficient * f[expansions[e].slot];
+        for (unsigned int e = c.expansions_begin; e < c.expansions_end; ++e)
+          f[expansions[e].slot] = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          dst.local_element(d[i]) += f[i];
+      }
+    dst.compress(VectorOperation::add);
+  }
+
+  const TrilinosWrappers::SparseMatrix &
+  ContinuumField::stiffness()
+  {
+    if (!by_cell || matrix_from_cells)
+      return K;
+    matrix_from_cells = true;
+    // Assembled from the cells' terms on first use (implicit solvers).
+    make_matrix();
+    FullMatrix<double>                   weighted;
+    std::vector<types::global_dof_index> dofs;
+    for (const FECell &c : cells)
+      {
+        const unsigned int n = c.terms->matrix.m();
+        dofs.resize(n);
+        for (unsigned int i = 0; i < n; ++i)
+          dofs[i] = partitioner->local_to_global(cell_dofs[c.dofs + i]);
+        weighted = c.terms->matrix;
+        weighted *= c.weight;
+        hanging.distribute_local_to_global(weighted, dofs, K);
+      }
+    K.compress(VectorOperation::add);
+    return K;
   }
 
   void
@@ -140,7 +331,7 @@ namespace perideal
         Pi.add_transpose(f_virtual, F);
         F.compress(VectorOperation::add);
       }
-    K.vmult(KU, U);
+    apply_stiffness(U, KU);
     const unsigned int n = partitioner->locally_owned_size();
     for (unsigned int k = 0; k < n; ++k)
       F.local_element(k) -= KU.local_element(k);

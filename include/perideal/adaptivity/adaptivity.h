@@ -106,8 +106,10 @@ namespace perideal
     /// (@p values: a midpoint rule with gradients).
     double
     cell_indicator(const CellIterator &cell, dealii::hp::FEValues<dim> &values) const;
-    /// Marks every convertible cell (owned and ghost) whose centre lies
-    /// within @p width of a trigger of any rank; returns the owned cells it marked.
+    /// If a convertible cell's centre lies within @p width of a trigger of
+    /// any rank, marks every convertible cell (owned and ghost) within
+    /// @p width plus the Buffer margin; returns the owned cells it marked.
+    /// Collective.
     std::size_t
     mark_cells(const std::vector<dealii::Point<dim>> &triggers, const double width);
     /// Kinetic and strain energy of the current state (its ghosts updated,

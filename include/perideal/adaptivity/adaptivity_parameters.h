@@ -44,6 +44,7 @@ namespace perideal
     double                    threshold      = 0.5;
     unsigned int              check_interval = 0; // 0: 10 explicit steps, every implicit step
     double                    buffer         = 0; // 0: the rule (doc/adaptivity.md)
+    double                    margin         = 0; // converts with the buffer
     std::vector<unsigned int> convertible;        // block numbers
     unsigned int              pd_block = 0;
   };

@@ -17,10 +17,12 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/hp/fe_values.h>
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -101,12 +103,17 @@ namespace perideal
     double
     local_kinetic_energy() const;
 
-    /// The stiffness (energy-weighted, condensed by the hanging-node constraints).
+    /// dst = K src on the owned DoFs: the energy-weighted stiffness,
+    /// condensed by the hanging-node constraints (its rows at hanging DoFs
+    /// are not to be read). @p src's ghost values are updated here.
+    void
+    apply_stiffness(const VectorType &src, VectorType &dst) const;
+
+    /// The same stiffness as a matrix (the implicit solvers' tangent).
+    /// Explicit runs do without it: when the cells have few shapes (a box, a
+    /// refined box) it is assembled only at the first call. Collective then.
     const dealii::TrilinosWrappers::SparseMatrix &
-    stiffness() const
-    {
-      return K;
-    }
+    stiffness();
     const PointInterpolation &
     interpolation() const
     {
@@ -125,6 +132,18 @@ namespace perideal
       return n_fe_cells == 0;
     }
 
+    /// Whether apply_stiffness() goes cell by cell (set by setup()).
+    bool
+    applied_by_cell() const
+    {
+      return by_cell;
+    }
+
+    /// The bytes of cell terms kept by shape (continuum_field.cc): when a
+    /// set-up's shapes need more on some rank, the stiffness is assembled
+    /// into a matrix instead. Set before setup().
+    std::size_t max_kept_bytes = 8 << 20;
+
     std::vector<Node>         nodes; // owned DoFs of FE cells
     std::vector<unsigned int> free;  // local indices of owned FE DoFs not constrained by hanging nodes
     VectorType                U, V, F, mass, load; // U ghosted; load: nodal body force, may stay empty
@@ -132,6 +151,63 @@ namespace perideal
     dealii::types::global_dof_index   n_global_dofs = 0; // of FE cells, all ranks
 
   private:
+    /// A cell's unweighted matrix, lumped mass and stable step.
+    struct CellTerms
+    {
+      dealii::FullMatrix<double> matrix;
+      dealii::Vector<double>     mass;
+      double                     step = 0;
+    };
+
+    /// Whether the shapes of this rank's FE cells not yet known fit in
+    /// max_kept_bytes (then the stiffness is applied cell by cell).
+    bool
+    shapes_fit(const dealii::DoFHandler<dim>                                         &dof_handler,
+               const std::function<const ContinuumModel *(const CellIterator &)> &model_of) const;
+
+    /// The mass, the stable step and, cell by cell (by_cell) or assembled
+    /// into K, the stiffness of the FE cells (setup()).
+    void
+    collect_cells(const dealii::DoFHandler<dim>                                         &dof_handler,
+                  const std::function<const ContinuumModel *(const CellIterator &)> &model_of,
+                  const std::function<double(const CellIterator &)>                    &weight_of);
+
+    /// K's sparsity pattern, entries zero. Collective.
+    void
+    make_matrix();
+
+    /// One FE cell for apply_stiffness().
+    void
+    add_cell(const CellTerms *terms, const double weight, const std::vector<dealii::types::global_dof_index> &dofs);
+
+    /// An FE cell applied by apply_stiffness(): its shape's terms, its energy
+    /// weight, its DoFs (local indices from cell_dofs[dofs]) and the
+    /// hanging DoFs among them (expansions[expansions_begin, end)).
+    struct FECell
+    {
+      const CellTerms *terms;
+      double           weight;
+      unsigned int     dofs, expansions_begin, expansions_end;
+    };
+    /// A hanging DoF of a cell (its place in the cell) and one of its masters.
+    struct Expansion
+    {
+      unsigned int slot, master;
+      double       coefficient;
+    };
+    bool                                  by_cell           = false;
+    bool                                  matrix_from_cells = false;
+    const dealii::DoFHandler<dim>        *dofs_of_cells     = nullptr;
+    std::vector<FECell>                   cells;
+    std::vector<unsigned int>             cell_dofs;
+    std::vector<Expansion>                expansions;
+    mutable std::vector<double>           cell_u, cell_f; // apply_stiffness()'s scratch
+    /// By shape (continuum_field.cc), kept across set-ups: a conversion's
+    /// new set-up finds the shapes it knows. At most max_kept_bytes of
+    /// matrices (4.6 KiB each for FE_Q(1) in 3D, 51 KiB for FE_Q(2)).
+    std::map<std::vector<double>, CellTerms> cell_terms;
+    std::size_t                              kept_bytes = 0;
+
     MPI_Comm                                                 comm = MPI_COMM_SELF;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner;
     dealii::TrilinosWrappers::SparseMatrix                   K;
