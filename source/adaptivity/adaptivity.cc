@@ -33,6 +33,9 @@ namespace perideal
     std::vector<PointKey>      keys;      // per old owned point
     std::vector<unsigned int>  order;     // old owned points sorted by key
     std::vector<std::uint8_t>  real;      // per old owned point: 1 if not a virtual or node point
+    std::vector<double>        position;  // dim per old owned point
+    std::vector<double>        alpha;     // per old owned point: its blending weight
+    std::vector<unsigned int>  block;     // per old owned point
     std::vector<double>        u, v;      // dim per old owned point
     std::vector<std::size_t>   offsets;   // old bonds per old owned point (CSR)
     std::vector<PointKey>      neighbor;  // per old bond, each family sorted by it: the far end's key
@@ -76,6 +79,11 @@ namespace perideal
                       "the fastest wave of the convertible blocks travels in Check interval steps (none in "
                       "quasistatic load steps), so that no point whose bonds may break reaches an FE cell "
                       "before the next check. Given: at least the Peridynamic block's horizon.");
+    prm.declare_entry("Check kept families", "false", Patterns::Bool(),
+                      "After each conversion the points far from the changed ones keep their families "
+                      "instead of a new neighbour search (doc/adaptivity.md). true: search all of them again "
+                      "as well and stop with an Error if a kept family differs (for testing; a conversion "
+                      "then costs about twice).");
     prm.declare_entry("Buffer margin", "0", Patterns::Double(0),
                       "When a check finds a convertible cell within the buffer, the cells within the buffer "
                       "plus this distance convert with it: a crack that runs on finds its next cells "
@@ -101,6 +109,7 @@ namespace perideal
     check_interval = prm.get_integer("Check interval");
     buffer         = prm.get_double("Buffer width");
     margin         = prm.get_double("Buffer margin");
+    check_kept     = prm.get_bool("Check kept families");
     prm.leave_subsection();
   }
 
@@ -186,7 +195,8 @@ namespace perideal
         const Material &m = *discretization.blocks[b].material;
         wave_speed        = std::max(wave_speed, std::sqrt((m.bulk_modulus() + 4 * m.shear_modulus() / 3) / m.density()));
       }
-    discretization.converted_block = parameters.pd_block;
+    discretization.converted_block     = parameters.pd_block;
+    discretization.check_kept_families = parameters.check_kept;
   }
 
   void
@@ -348,9 +358,20 @@ namespace perideal
         return false;
       }
     // 2. The state before, by identity; the new points, bonds and parts.
-    const auto     before = energies();
-    const Snapshot old    = take_snapshot();
-    rebuild(time);
+    const auto             before   = energies();
+    const Snapshot         old      = take_snapshot();
+    const PreviousFamilies families = families_to_keep(old);
+    discretization.previous_families = &families;
+    try
+      {
+        rebuild(time);
+      }
+    catch (...)
+      {
+        discretization.previous_families = nullptr;
+        throw;
+      }
+    discretization.previous_families = nullptr;
     // 3. The state after: carried over, the new points from the FE field.
     restore(old);
     const auto   after = energies();
@@ -362,11 +383,13 @@ namespace perideal
     record.converted_cells += marked;
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     record.conversion_seconds += took;
-    const double bonds = Utilities::MPI::sum(double(discretization.bonds.n_bonds()), comm);
+    const double bonds    = Utilities::MPI::sum(double(discretization.bonds.n_bonds()), comm);
+    const double kept     = Utilities::MPI::sum(double(discretization.bonds.kept_families), comm);
+    const double owned    = Utilities::MPI::sum(double(discretization.cloud.n_owned()), comm);
     pcout << "Adaptivity: step " << step << ", t = " << sci(time, 6) << ": " << marked << " cells converted ("
           << triggers.size() << " marked by the indicator, buffer " << sci(width, 4) << "), "
           << discretization.cloud.n_global() << " points, " << std::setprecision(12) << bonds
-          << " bonds; ";
+          << " bonds (" << std::setprecision(3) << 100 * kept / std::max(1.0, owned) << "% of the families kept); ";
     if (inertia)
       pcout << "kinetic " << sci(before.first, 6) << " -> " << sci(after.first, 6) << ", ";
     const double scale = (inertia ? std::abs(before.first) : 0.0) + std::abs(before.second);
@@ -374,6 +397,21 @@ namespace perideal
           << " (" << sci(jump / std::max(scale, std::numeric_limits<double>::min()), 3) << " relative); "
           << sci(took, 3) << " s" << std::endl;
     return true;
+  }
+
+  PreviousFamilies
+  Adaptivity::families_to_keep(const Snapshot &old) const
+  {
+    PreviousFamilies families;
+    families.keys        = &old.keys;
+    families.order       = &old.order;
+    families.offsets     = &old.offsets;
+    families.neighbors   = &old.neighbor;
+    families.positions   = &old.position;
+    families.alpha       = &old.alpha;
+    families.block       = &old.block;
+    families.extra_reach = discretization.cloud.max_cell_radius;
+    return families;
   }
 
   void
@@ -410,6 +448,9 @@ namespace perideal
     old.real.resize(n);
     for (unsigned int i = 0; i < n; ++i)
       old.real[i] = !discretization.is_virtual(i) && !cloud.is_extra(i);
+    old.position.assign(cloud.X.begin(), cloud.X.begin() + dim * n);
+    old.alpha.assign(discretization.point_alpha.begin(), discretization.point_alpha.begin() + n);
+    old.block.assign(cloud.block.begin(), cloud.block.begin() + n);
     old.u.assign(state.displacement.begin(), state.displacement.begin() + dim * n);
     old.v.assign(state.velocity.begin(), state.velocity.begin() + dim * n);
     // Each family sorted by the far end's key: a bond is found again by it.

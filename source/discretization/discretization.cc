@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstring>
 #include <set>
+#include <sstream>
 
 namespace perideal
 {
@@ -251,7 +252,58 @@ namespace perideal
   {
     setup_warnings.clear();
     build_points_and_bonds();
+    if (previous_families != nullptr && check_kept_families)
+      compare_with_searched_families();
     check_isolated_points();
+  }
+
+  std::vector<std::pair<PointKey, std::vector<PointKey>>>
+  Discretization::families_by_key() const
+  {
+    std::vector<std::pair<PointKey, std::vector<PointKey>>> families(cloud.n_owned());
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        families[i].first = cloud.key[i];
+        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+          families[i].second.push_back(cloud.key[bonds.neighbor[b]]);
+      }
+    std::sort(families.begin(), families.end());
+    return families;
+  }
+
+  void
+  Discretization::compare_with_searched_families()
+  {
+    const auto kept = families_by_key();
+    const PreviousFamilies *previous = previous_families;
+    previous_families = nullptr;
+    build_points_and_bonds();
+    previous_families = previous;
+    const auto   searched  = families_by_key();
+    unsigned int different = 0;
+    Point<dim>   first;
+    for (std::size_t k = 0; k < searched.size(); ++k)
+      if (k >= kept.size() || kept[k] != searched[k])
+        {
+          if (different++ == 0)
+            for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+              if (cloud.key[i] == searched[k].first)
+                first = cloud.position(i);
+        }
+    different += kept.size() > searched.size() ? kept.size() - searched.size() : 0;
+    const unsigned int total = Utilities::MPI::sum(different, comm);
+    if (total == 0)
+      return;
+    // The first of the lowest rank that has one.
+    const unsigned int rank  = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int owner = Utilities::MPI::min(different > 0 ? rank : numbers::invalid_unsigned_int, comm);
+    for (unsigned int d = 0; d < dim; ++d)
+      first[d] = Utilities::MPI::sum(rank == owner ? first[d] : 0.0, comm);
+    std::ostringstream where;
+    where << first;
+    AssertThrow(false, ExcMessage("Adaptivity/Check kept families: " + std::to_string(total) +
+                                  " families kept through a conversion differ from a new search (the first at (" +
+                                  where.str() + ")): the kept families are wrong"));
   }
 
   void
@@ -342,7 +394,11 @@ namespace perideal
       std::vector<std::uint8_t> rigid(blocks.size());
       for (unsigned int b = 0; b < blocks.size(); ++b)
         horizon[b] = blocks[b].horizon, rigid[b] = blocks[b].rigid;
-      bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius, rigid);
+      PreviousFamilies previous;
+      if (previous_families != nullptr)
+        previous = with_changed_points(*previous_families, horizon);
+      bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius, rigid,
+                            previous_families != nullptr ? &previous : nullptr);
       if (scene.partial_volumes)
         {
           compute_partial_volumes(cloud, bonds, horizon);
@@ -355,6 +411,47 @@ namespace perideal
       if (!initial_damage.empty())
         apply_initial_damage();
     }
+  }
+
+  PreviousFamilies
+  Discretization::with_changed_points(const PreviousFamilies &previous, const std::vector<double> &horizon) const
+  {
+    // A point changed if it is new, gone, moved, or changed block or
+    // blending weight (which decides drop_unweighted_bonds()); a family
+    // can change only within a search reach of a changed point.
+    PreviousFamilies                   result = previous;
+    std::vector<Point<dim>>            changed;
+    const std::vector<PointKey>       &keys  = *previous.keys;
+    const std::vector<unsigned int>   &order = *previous.order;
+    const unsigned int                 n     = cloud.n_owned();
+    std::vector<PointKey>              now(cloud.key.begin(), cloud.key.begin() + n);
+    std::sort(now.begin(), now.end());
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const auto old = std::lower_bound(order.begin(), order.end(), cloud.key[i],
+                                          [&](const unsigned int a, const PointKey &k) { return keys[a] < k; });
+        bool same = old != order.end() && keys[*old] == cloud.key[i] && (*previous.block)[*old] == cloud.block[i] &&
+                    (*previous.alpha)[*old] == point_alpha[i];
+        for (unsigned int d = 0; same && d < dim; ++d)
+          same = (*previous.positions)[dim * *old + d] == cloud.X[dim * i + d];
+        if (!same)
+          changed.push_back(cloud.position(i));
+      }
+    for (unsigned int k = 0; k < keys.size(); ++k)
+      if (!std::binary_search(now.begin(), now.end(), keys[k]))
+        {
+          Point<dim> x;
+          for (unsigned int d = 0; d < dim; ++d)
+            x[d] = (*previous.positions)[dim * k + d];
+          changed.push_back(x);
+        }
+    for (const auto &part : Utilities::MPI::all_gather(comm, changed))
+      result.changed.insert(result.changed.end(), part.begin(), part.end());
+    double largest = 0;
+    for (const double h : horizon)
+      largest = std::max(largest, h);
+    result.radius = (1 + 1e-6) * (largest * (1 + horizon_tolerance) + cloud.max_cell_radius);
+    return result;
   }
 
   namespace

@@ -8,17 +8,89 @@
 #include <array>
 #include <cmath>
 #include <sstream>
+#include <unordered_map>
 
 namespace perideal
 {
   using namespace dealii;
+
+  namespace
+  {
+    struct KeyHash
+    {
+      std::size_t
+      operator()(const PointKey &k) const
+      {
+        std::size_t h = 0;
+        for (const unsigned int v : k)
+          h = h * 0x9E3779B97F4A7C15ull + v;
+        return h ^ (h >> 29);
+      }
+    };
+
+    /// The families PreviousFamilies lets the points keep: an owned point
+    /// far from every changed place, known before, whose old neighbors are
+    /// all here again.
+    class KeptFamilies
+    {
+    public:
+      KeptFamilies(const PreviousFamilies *previous, const PointCloud &cloud, const double extra_reach)
+        : previous(previous != nullptr && previous->extra_reach == extra_reach ? previous : nullptr)
+      {
+        if (this->previous == nullptr)
+          return;
+        changed = pack_rtree(this->previous->changed);
+        local.reserve(cloud.n_local());
+        for (unsigned int i = 0; i < cloud.n_local(); ++i)
+          local.emplace(cloud.key[i], i);
+      }
+
+      /// Appends point @p i's old family (new indices) to @p neighbor;
+      /// false, and nothing appended, if it has none to keep.
+      bool
+      append(const PointCloud &cloud, const unsigned int i, const dealii::Point<dim> &x,
+             std::vector<unsigned int> &neighbor) const
+      {
+        if (previous == nullptr)
+          return false;
+        namespace bgi = boost::geometry::index;
+        for (const auto &p : changed | bgi::adaptors::queried(bgi::nearest(x, 1)))
+          if (p.distance(x) <= previous->radius)
+            return false;
+        const std::vector<unsigned int> &order = *previous->order;
+        const std::vector<PointKey>     &keys  = *previous->keys;
+        const auto old = std::lower_bound(order.begin(), order.end(), cloud.key[i],
+                                          [&](const unsigned int a, const PointKey &k) { return keys[a] < k; });
+        if (old == order.end() || keys[*old] != cloud.key[i])
+          return false;
+        const std::size_t begin = neighbor.size();
+        for (std::size_t b = (*previous->offsets)[*old]; b < (*previous->offsets)[*old + 1]; ++b)
+          {
+            const auto j = local.find((*previous->neighbors)[b]);
+            if (j == local.end())
+              {
+                neighbor.resize(begin);
+                return false;
+              }
+            neighbor.push_back(j->second);
+          }
+        return true;
+      }
+
+    private:
+      const PreviousFamilies                             *previous;
+      dealii::RTree<dealii::Point<dim>>                   changed; // where points changed
+      std::unordered_map<PointKey, unsigned int, KeyHash> local;   // key -> new local index
+    };
+  } // namespace
 
   Bonds
   find_families(PointCloud                      &cloud,
                 const std::vector<double>       &block_horizon,
                 const MPI_Comm                   comm,
                 const double                     extra_reach,
-                const std::vector<std::uint8_t> &unbonded_block)
+                const std::vector<std::uint8_t> &unbonded_block,
+                const PreviousFamilies          *previous)
   {
     const auto unbonded = [&](const unsigned int point) {
       return !unbonded_block.empty() && unbonded_block[cloud.block[point]] != 0;
@@ -61,6 +133,7 @@ namespace perideal
     bonds.neighbor.reserve(static_cast<std::size_t>(expected * 1.1) + 16);
     std::vector<bool>         used(n_local, false);
     std::vector<unsigned int> candidates;
+    const KeptFamilies        kept(previous, cloud, extra_reach);
     // Two points at one place give a bond of length 0 (a division by zero in
     // every model): a mesh with duplicated or overlapping cells.
     unsigned int coincident = 0;
@@ -96,6 +169,16 @@ namespace perideal
         // Search as far as any family that may hold i reaches.
         const double     reach = largest_reach;
         const Point<dim> x     = points[i];
+        if (kept.append(cloud, i, x, bonds.neighbor))
+          {
+            for (std::size_t b = bonds.offsets[i]; b < bonds.neighbor.size(); ++b)
+              {
+                used[bonds.neighbor[b]] = true;
+                different_horizons |= block_reach[cloud.block[bonds.neighbor[b]]] != reach_i;
+              }
+            ++bonds.kept_families;
+            continue;
+          }
         // Coincident: closer than a millionth of the point's own cell size
         // (not of the horizon, which may be far larger than the cells).
         const double same_place = std::min(1e-9 * delta, 1e-6 * std::cbrt(cloud.volume[i]));

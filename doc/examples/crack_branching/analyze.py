@@ -18,7 +18,7 @@ the branch point, and the largest; when the crack reaches the far edge (49
 mm past the notch); and from the 'upper' and 'lower' computes, how far the
 branches reach from the notch's line. From the log: wall time, points,
 bonds, scene memory. Writes branching.png: the damage of every run, a row
-per spacing, all-PD left and coupled right.
+per spacing, a column per scene (adaptive, all-PD, coupled).
 """
 
 import csv
@@ -41,10 +41,16 @@ C_R = 0.9194 * math.sqrt(72e9 / (2 * 1.25 * 2440))
 
 def read_points(pvtu):
     """(x, y, damage) of every PD point: the finest cells (the finite element
-    cells, coarser, are skipped)."""
+    cells, coarser, are skipped); where the run writes the Block field
+    (adaptive.prm, whose fine strip starts as finite elements), the cells of
+    block 0, the peridynamic one, only."""
     cells = pvtu_cells.read_cells(pvtu, "Damage")
     h = min(c[4] for c in cells)
-    return [(c[0], c[1], c[3]) for c in cells if c[4] < 1.5 * h]
+    try:
+        blocks = [c[3] for c in pvtu_cells.read_cells(pvtu, "Block")]
+    except TypeError:  # no Block field
+        blocks = [0] * len(cells)
+    return [(c[0], c[1], c[3]) for c, b in zip(cells, blocks) if c[4] < 1.5 * h and b == 0]
 
 
 def field_steps(run):
@@ -139,7 +145,7 @@ def picture(results, out):
         return
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    # One row per spacing (coarsest first), all-PD left, coupled right.
+    # One row per spacing (coarsest first), one column per scene (by name).
     spacings = sorted({n.rsplit("-", 1)[-1] for n in results}, key=lambda s: -float(s.rstrip("m")))
     scenes = sorted({n.rsplit("-", 1)[0] for n in results})
     fig, axes = plt.subplots(len(spacings), len(scenes), figsize=(5.2 * len(scenes), 2.5 * len(spacings)),

@@ -119,6 +119,10 @@ namespace perideal
 
     /// The state that survives a conversion, by identity (adaptivity.cc).
     struct Snapshot;
+    /// The families of @p old, for the points the rebuild leaves unchanged
+    /// far enough from every changed one to keep them.
+    PreviousFamilies
+    families_to_keep(const Snapshot &old) const;
     Snapshot
     take_snapshot() const;
     /// The old owned point with key @p key, or unsigned(-1).

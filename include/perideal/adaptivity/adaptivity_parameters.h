@@ -45,6 +45,7 @@ namespace perideal
     unsigned int              check_interval = 0; // 0: 10 explicit steps, every implicit step
     double                    buffer         = 0; // 0: the rule (doc/adaptivity.md)
     double                    margin         = 0; // converts with the buffer
+    bool                      check_kept     = false; // search the kept families again (tests)
     std::vector<unsigned int> convertible;        // block numbers
     unsigned int              pd_block = 0;
   };

@@ -114,15 +114,33 @@ namespace perideal
     // Force blending (Coupling/Scheme): per owned free FE node within the
     // band, a point at the node where the PD force is evaluated (owned
     // point index), its dim global DoFs and its weight alpha.
+    std::vector<unsigned int>                     node_points;
+    std::vector<dealii::types::global_dof_index> node_point_dofs;
+    std::vector<double>                           node_point_alpha;
     // Adaptivity: per active cell (owned and ghost), 1 if it has turned
     // into a cell of block converted_block; empty before any conversion.
     std::vector<std::uint8_t> converted;
     unsigned int              converted_block = 0;
-    std::vector<unsigned int>                     node_points;
-    std::vector<dealii::types::global_dof_index> node_point_dofs;
-    std::vector<double>                           node_point_alpha;
+    // Set by Adaptivity around a rebuild: the families that points far
+    // from the converted cells keep (find_families()); nullptr: search all.
+    const PreviousFamilies *previous_families = nullptr;
+    // Adaptivity/Check kept families: every rebuild with previous_families
+    // searches all families again and stops if a kept one differs.
+    bool check_kept_families = false;
 
   private:
+    /// Per owned point, sorted by key: its key and its family's keys in order.
+    std::vector<std::pair<PointKey, std::vector<PointKey>>>
+    families_by_key() const;
+    /// Builds the points and bonds again without previous_families and
+    /// stops with an Error if a family differs from the kept ones. Collective.
+    void
+    compare_with_searched_families();
+    /// @p previous with the changed points (every rank's) and the radius
+    /// within which their families must be searched again. Collective.
+    PreviousFamilies
+    with_changed_points(const PreviousFamilies &previous, const std::vector<double> &horizon) const;
+
     /// Size checks (size_check.cc): the built-in scene's cells, points and
     /// bonds before the mesh is made, and the mesh's (with the cells flagged
     /// for refinement) once it exists, against the memory available; an

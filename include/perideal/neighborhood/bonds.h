@@ -32,6 +32,8 @@ namespace perideal
     static constexpr std::uint8_t own_half = 1, other_half = 2;
     /// The horizon of each block, as find_families() used them.
     std::vector<double> block_horizon;
+    /// The owned points that kept their families (find_families() with PreviousFamilies).
+    unsigned int kept_families = 0;
 
     /// 1 if bond @p b is in its owner's family, else 0 (set-up and reporting).
     double
@@ -118,10 +120,32 @@ namespace perideal
    * @p unbonded_block[b] != 0 (rigid blocks) take no bond, neither among
    * themselves nor to others. Collective.
    */
+  /// The families of an earlier find_families() on the same scene, by
+  /// identity, for a search after a change of some points (a conversion,
+  /// doc/adaptivity.md): an owned point that existed before and lies
+  /// farther than @p radius from every changed point keeps its family
+  /// (mapped to the new indices) instead of being searched again.
+  struct PreviousFamilies
+  {
+    const std::vector<PointKey>     *keys      = nullptr; // the old owned points
+    const std::vector<unsigned int> *order     = nullptr; // their indices, sorted by key
+    const std::vector<std::size_t>  *offsets   = nullptr; // their families' ranges in neighbors
+    const std::vector<PointKey>     *neighbors = nullptr; // each family by key, sorted by key
+    const std::vector<double>       *positions = nullptr; // dim per old owned point
+    const std::vector<double>       *alpha     = nullptr; // the blending weight per old owned point
+    const std::vector<unsigned int> *block     = nullptr; // per old owned point
+    double                           extra_reach = 0;     // the earlier search's (none kept if it differs)
+    // Filled by the Discretization from the new points: where points
+    // appeared, vanished or changed (every rank's), and the search reach.
+    std::vector<dealii::Point<dim>> changed;
+    double                          radius = 0;
+  };
+
   Bonds
   find_families(PointCloud                      &cloud,
                 const std::vector<double>       &block_horizon,
                 const MPI_Comm                   comm,
                 const double                     extra_reach    = 0,
-                const std::vector<std::uint8_t> &unbonded_block = {});
+                const std::vector<std::uint8_t> &unbonded_block = {},
+                const PreviousFamilies          *previous       = nullptr);
 } // namespace perideal
