@@ -67,7 +67,9 @@ for np in $RANKS; do
       rm -rf "$dir"; mkdir "$dir"
       (cd "$dir" && mpirun -np "$np" "$app" "$scene" > run.log 2>&1) ||
         { echo "Error: $build, $np ranks, repetition $rep failed (see $OUT/$dir/run.log)" >&2; exit 1; }
-      loop=$(sed -n 's/.*time loop \([0-9.]*\) s.*/\1/p' "$dir/run.log" | head -1)
+      # The summary writes "time loop 8.7 s", "2 min 34 s" or "1 h 5 min" (format_seconds).
+      loop=$(sed -n 's/.*time loop \([^)]*\)).*/\1/p' "$dir/run.log" | head -1 |
+        awk '{t = 0; for (i = 1; i < NF; i += 2) t += $i * ($(i + 1) == "h" ? 3600 : $(i + 1) == "min" ? 60 : 1); print t}')
       rate=$(sed -n 's/.*bond updates per second: \([0-9.]*\) M.*/\1/p' "$dir/run.log" | head -1)
       line="$(date +%T) $build np=$np rep $rep: loop $loop s, $rate M bond updates/s"
       for s in "${section_list[@]}"; do line="$line, $s $(section "$dir/run.log" "$s") s"; done
