@@ -502,9 +502,7 @@ namespace perideal
   unsigned int
   Adaptivity::old_point(const Snapshot &old, const PointKey &key) const
   {
-    const auto it = std::lower_bound(old.order.begin(), old.order.end(), key,
-                                     [&](const unsigned int a, const PointKey &k) { return old.keys[a] < k; });
-    return it != old.order.end() && old.keys[*it] == key ? *it : numbers::invalid_unsigned_int;
+    return find_by_key(old.keys, old.order, key);
   }
 
   void

@@ -280,30 +280,22 @@ namespace perideal
     build_points_and_bonds();
     previous_families = previous;
     const auto   searched  = families_by_key();
-    unsigned int different = 0;
-    Point<dim>   first;
+    std::vector<PointKey> different; // sorted, as the families are
     for (std::size_t k = 0; k < searched.size(); ++k)
       if (k >= kept.size() || kept[k] != searched[k])
-        {
-          if (different++ == 0)
-            for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-              if (cloud.key[i] == searched[k].first)
-                first = cloud.position(i);
-        }
-    different += kept.size() > searched.size() ? kept.size() - searched.size() : 0;
-    const unsigned int total = Utilities::MPI::sum(different, comm);
+        different.push_back(searched[k].first);
+    BestPoint first(BestPoint::Order::smallest); // the differing point of the smallest id
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (std::binary_search(different.begin(), different.end(), cloud.key[i]))
+        first.consider(double(cloud.gid[i]), cloud.gid[i], &cloud.X[dim * i]);
+    const std::size_t extra = kept.size() > searched.size() ? kept.size() - searched.size() : 0;
+    const unsigned int total = Utilities::MPI::sum(static_cast<unsigned int>(different.size() + extra), comm);
+    const BestPoint    where = first.global(comm);
     if (total == 0)
       return;
-    // The first of the lowest rank that has one.
-    const unsigned int rank  = Utilities::MPI::this_mpi_process(comm);
-    const unsigned int owner = Utilities::MPI::min(different > 0 ? rank : numbers::invalid_unsigned_int, comm);
-    for (unsigned int d = 0; d < dim; ++d)
-      first[d] = Utilities::MPI::sum(rank == owner ? first[d] : 0.0, comm);
-    std::ostringstream where;
-    where << first;
     AssertThrow(false, ExcMessage("Adaptivity/Check kept families: " + std::to_string(total) +
-                                  " families kept through a conversion differ from a new search (the first at (" +
-                                  where.str() + ")): the kept families are wrong"));
+                                  " families kept through a conversion differ from a new search (the first at " +
+                                  where.describe() + "): the kept families are wrong"));
   }
 
   void
@@ -428,12 +420,11 @@ namespace perideal
     std::sort(now.begin(), now.end());
     for (unsigned int i = 0; i < n; ++i)
       {
-        const auto old = std::lower_bound(order.begin(), order.end(), cloud.key[i],
-                                          [&](const unsigned int a, const PointKey &k) { return keys[a] < k; });
-        bool same = old != order.end() && keys[*old] == cloud.key[i] && (*previous.block)[*old] == cloud.block[i] &&
-                    (*previous.alpha)[*old] == point_alpha[i];
+        const unsigned int old  = find_by_key(keys, order, cloud.key[i]);
+        bool               same = old != numbers::invalid_unsigned_int && (*previous.block)[old] == cloud.block[i] &&
+                    (*previous.alpha)[old] == point_alpha[i];
         for (unsigned int d = 0; same && d < dim; ++d)
-          same = (*previous.positions)[dim * *old + d] == cloud.X[dim * i + d];
+          same = (*previous.positions)[dim * old + d] == cloud.X[dim * i + d];
         if (!same)
           changed.push_back(cloud.position(i));
       }

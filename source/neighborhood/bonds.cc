@@ -57,14 +57,11 @@ namespace perideal
         for (const auto &p : changed | bgi::adaptors::queried(bgi::nearest(x, 1)))
           if (p.distance(x) <= previous->radius)
             return false;
-        const std::vector<unsigned int> &order = *previous->order;
-        const std::vector<PointKey>     &keys  = *previous->keys;
-        const auto old = std::lower_bound(order.begin(), order.end(), cloud.key[i],
-                                          [&](const unsigned int a, const PointKey &k) { return keys[a] < k; });
-        if (old == order.end() || keys[*old] != cloud.key[i])
+        const unsigned int old = find_by_key(*previous->keys, *previous->order, cloud.key[i]);
+        if (old == numbers::invalid_unsigned_int)
           return false;
         const std::size_t begin = neighbor.size();
-        for (std::size_t b = (*previous->offsets)[*old]; b < (*previous->offsets)[*old + 1]; ++b)
+        for (std::size_t b = (*previous->offsets)[old]; b < (*previous->offsets)[old + 1]; ++b)
           {
             const auto j = local.find((*previous->neighbors)[b]);
             if (j == local.end())

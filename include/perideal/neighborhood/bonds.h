@@ -13,6 +13,7 @@
 
 #include <perideal/discretization/point_cloud.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -120,6 +121,16 @@ namespace perideal
    * @p unbonded_block[b] != 0 (rigid blocks) take no bond, neither among
    * themselves nor to others. Collective.
    */
+  /// The index i with keys[i] == @p key, found through @p order (the
+  /// indices sorted by key), or numbers::invalid_unsigned_int.
+  inline unsigned int
+  find_by_key(const std::vector<PointKey> &keys, const std::vector<unsigned int> &order, const PointKey &key)
+  {
+    const auto it = std::lower_bound(order.begin(), order.end(), key,
+                                     [&](const unsigned int a, const PointKey &k) { return keys[a] < k; });
+    return it != order.end() && keys[*it] == key ? *it : dealii::numbers::invalid_unsigned_int;
+  }
+
   /// The families of an earlier find_families() on the same scene, by
   /// identity, for a search after a change of some points (a conversion,
   /// doc/adaptivity.md): an owned point that existed before and lies
