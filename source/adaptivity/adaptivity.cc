@@ -1,6 +1,7 @@
 // Cells that turn into peridynamics during a run (adaptivity.h, doc/adaptivity.md).
 
 #include <perideal/adaptivity/adaptivity.h>
+#include <perideal/base/best_point.h>
 #include <perideal/base/format.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/discretization/discretization.h>
@@ -42,10 +43,13 @@ namespace perideal
     std::vector<std::size_t>   bond;      // the old bond index of each of them
     std::vector<std::uint8_t>  broken;    // per old bond (empty without damage)
     std::vector<double>        damage;    // per old bond (empty without continuous damage)
-    // Per owned FE cell (active cell index): its DoFs' u and v before the conversion.
+    // Per owned FE cell, sorted by CellId (a conversion may refine cells,
+    // which renumbers them): its DoFs' u and v before the conversion and
+    // its active FE index.
+    std::vector<CellId>              cell_id;
     std::vector<std::vector<double>> cell_u, cell_v;
-    std::vector<unsigned int>        cell_fe; // its active FE index (0: not an owned FE cell)
-    std::unique_ptr<FieldStore>      history; // the models' fields
+    std::vector<unsigned int>        cell_fe;
+    FieldStore::History              history; // the models' history per old owned point and bond
   };
   // ------------------------------------------------------------ parameters
 
@@ -89,6 +93,12 @@ namespace perideal
                       "plus this distance convert with it: a crack that runs on finds its next cells "
                       "converted already, and conversions come fewer and larger (doc/adaptivity.md measures "
                       "it). 0: only the buffer.");
+    prm.declare_entry("Refine converted cells", "false", Patterns::Bool(),
+                      "true: a converted cell coarser than the finest cell of the Peridynamic block is refined "
+                      "(p4est, one level per pass) until it is as fine, and each of its children becomes a PD "
+                      "point: the FE cells can be coarse where nothing breaks and PD is fine where it does. FE "
+                      "cells that p4est's 2:1 balance refines with them stay FE, their field interpolated; the "
+                      "horizon is the block's. The refinement is part of a checkpoint (doc/adaptivity.md).");
     prm.leave_subsection();
   }
 
@@ -110,6 +120,7 @@ namespace perideal
     buffer         = prm.get_double("Buffer width");
     margin         = prm.get_double("Buffer margin");
     check_kept     = prm.get_bool("Check kept families");
+    refine         = prm.get_bool("Refine converted cells");
     prm.leave_subsection();
   }
 
@@ -197,6 +208,21 @@ namespace perideal
       }
     discretization.converted_block     = parameters.pd_block;
     discretization.check_kept_families = parameters.check_kept;
+    if (parameters.refine)
+      {
+        // Converted cells are refined to the finest level of the PD block
+        // (of the mesh if it starts without a cell).
+        int finest = -1, deepest = 0;
+        for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              deepest = std::max(deepest, cell->level());
+              if (discretization.block_of_cell(cell) == int(parameters.pd_block))
+                finest = std::max(finest, cell->level());
+            }
+        finest       = Utilities::MPI::max(finest, comm);
+        target_level = finest >= 0 ? finest : Utilities::MPI::max(deepest, comm);
+      }
   }
 
   void
@@ -329,6 +355,115 @@ namespace perideal
     return owned;
   }
 
+  unsigned int
+  Adaptivity::refine_converted_cells()
+  {
+    TimerOutput::Scope t(timer, "adaptivity: refinement");
+    unsigned int       made = 0;
+    for (;;)
+      {
+        bool flagged = false;
+        for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned() && discretization.converted[cell->active_cell_index()] &&
+              cell->level() < target_level)
+            {
+              cell->set_refine_flag();
+              refined.emplace_back(passes, cell->id().template to_binary<dim>());
+              flagged = true;
+            }
+        if (Utilities::MPI::max(flagged ? 1u : 0u, comm) == 0)
+          return made;
+        execute_refinement();
+        ++passes;
+        ++made;
+      }
+  }
+
+  void
+  Adaptivity::execute_refinement()
+  {
+    std::vector<std::uint8_t> &converted = discretization.converted;
+    if (converted.empty()) // a restart's replay: the checkpoint has the flags
+      {
+        discretization.triangulation.execute_coarsening_and_refinement();
+        return;
+      }
+    // The cells change their indices: the converted ones (owned and ghost)
+    // and this rank's peridynamic ones by identity.
+    std::vector<CellId> converted_ids, pd_ids;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          const int b = discretization.block_of_cell(cell);
+          if (converted[cell->active_cell_index()])
+            converted_ids.push_back(cell->id());
+          else if (cell->is_locally_owned() && b >= 0 && !discretization.blocks[b].continuum)
+            pd_ids.push_back(cell->id());
+        }
+    std::sort(converted_ids.begin(), converted_ids.end());
+    std::sort(pd_ids.begin(), pd_ids.end());
+    discretization.triangulation.execute_coarsening_and_refinement();
+
+    // A peridynamic cell that p4est's 2:1 balance split: its children's
+    // points would have no state to come from.
+    BestPoint          first(BestPoint::Order::smallest); // the split cell of the smallest x
+    unsigned long long split = 0;
+    for (const auto &cell : discretization.triangulation.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->level() > 0 &&
+          std::binary_search(pd_ids.begin(), pd_ids.end(), cell->parent()->id()))
+        {
+          ++split;
+          const Point<dim> x = cell->parent()->center();
+          first.consider(x[0], 0, &x[0]);
+        }
+    split                 = Utilities::MPI::sum(split, comm);
+    const BestPoint where = first.global(comm);
+    std::string     at    = "(";
+    for (unsigned int d = 0; d < dim; ++d)
+      at += (d > 0 ? ", " : "") + sci(where.x[d]);
+    at += ")";
+    AssertThrow(split == 0,
+                ExcMessage("Adaptivity/Refine converted cells: refining the converted cells to level " +
+                           std::to_string(target_level) + " makes p4est's 2:1 balance split " +
+                           std::to_string(split / GeometryInfo<dim>::max_children_per_cell) +
+                           " peridynamic cells (one at " + at +
+                           "), whose points would lose their state: give the peridynamic cells next to "
+                           "convertible ones that level from the start (Discretization/Refinement regions)"));
+    converted.assign(discretization.triangulation.n_active_cells(), 0);
+    for (const auto &cell : discretization.triangulation.active_cell_iterators())
+      if (!cell->is_artificial())
+        for (Triangulation<dim>::cell_iterator c = cell;; c = c->parent())
+          {
+            if (std::binary_search(converted_ids.begin(), converted_ids.end(), c->id()))
+              {
+                converted[cell->active_cell_index()] = 1;
+                break;
+              }
+            if (c->level() == 0)
+              break;
+          }
+  }
+
+  void
+  Adaptivity::replay_refinement(const std::vector<std::pair<unsigned int, PointKey>> &history)
+  {
+    const unsigned int n = Utilities::MPI::max(history.empty() ? 0u : history.back().first + 1, comm);
+    for (unsigned int pass = 0; pass < n; ++pass)
+      {
+        for (const auto &[p, key] : history)
+          if (p == pass)
+            {
+              const auto cell = discretization.triangulation.create_cell_iterator(CellId(key));
+              AssertThrow(cell->is_active() && cell->is_locally_owned(),
+                          ExcMessage("the checkpoint's refined cells do not match this mesh and partition"));
+              cell->set_refine_flag();
+            }
+        execute_refinement();
+      }
+    refined = history;
+    passes  = n;
+  }
+
   std::pair<double, double>
   Adaptivity::energies()
   {
@@ -357,9 +492,11 @@ namespace perideal
         record.conversion_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return false;
       }
-    // 2. The state before, by identity; the new points, bonds and parts.
+    // 2. The state before, by identity; the converted cells refined; the
+    // new points, bonds and parts.
     const auto             before   = energies();
     const Snapshot         old      = take_snapshot();
+    const unsigned int     splits   = parameters.refine ? refine_converted_cells() : 0;
     const PreviousFamilies families = families_to_keep(old);
     discretization.previous_families = &families;
     try
@@ -387,7 +524,9 @@ namespace perideal
     const double kept     = Utilities::MPI::sum(double(discretization.bonds.kept_families), comm);
     const double owned    = Utilities::MPI::sum(double(discretization.cloud.n_owned()), comm);
     pcout << "Adaptivity: step " << step << ", t = " << sci(time, 6) << ": " << marked << " cells converted ("
-          << triggers.size() << " marked by the indicator, buffer " << sci(width, 4) << "), "
+          << triggers.size() << " marked by the indicator, buffer " << sci(width, 4) << ")"
+          << (splits > 0 ? ", refined " + std::to_string(splits) + (splits == 1 ? " time" : " times") : std::string())
+          << ", "
           << discretization.cloud.n_global() << " points, " << std::setprecision(12) << bonds
           << " bonds (" << std::setprecision(3) << 100 * kept / std::max(1.0, owned) << "% of the families kept); ";
     if (inertia)
@@ -476,25 +615,26 @@ namespace perideal
       }
     old.broken = model.broken;
     old.damage = model.damage;
-    old.history = std::make_unique<FieldStore>(model.field_store());
-    // The FE field cell by cell, with the element it had.
+    old.history = model.field_store().history(n, bonds.n_bonds());
+    // The FE field cell by cell, with the element it had, in CellId order.
     ContinuumField &fe = coupling.continuum;
     fe.U.update_ghost_values();
     fe.V.update_ghost_values();
-    old.cell_u.resize(discretization.triangulation.n_active_cells());
-    old.cell_v.resize(old.cell_u.size());
-    old.cell_fe.assign(old.cell_u.size(), 0);
+    std::vector<std::pair<CellId, CellIterator>> cells;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && cell->active_fe_index() > 0)
-        {
-          const unsigned int c = cell->active_cell_index();
-          old.cell_fe[c]       = cell->active_fe_index();
-          Vector<double> u(cell->get_fe().n_dofs_per_cell()), v(u.size());
-          cell->get_dof_values(fe.U, u);
-          cell->get_dof_values(fe.V, v);
-          old.cell_u[c].assign(u.begin(), u.end());
-          old.cell_v[c].assign(v.begin(), v.end());
-        }
+        cells.emplace_back(cell->id(), cell);
+    std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+    for (const auto &[id, cell] : cells)
+      {
+        Vector<double> u(cell->get_fe().n_dofs_per_cell()), v(u.size());
+        cell->get_dof_values(fe.U, u);
+        cell->get_dof_values(fe.V, v);
+        old.cell_id.push_back(id);
+        old.cell_u.emplace_back(u.begin(), u.end());
+        old.cell_v.emplace_back(v.begin(), v.end());
+        old.cell_fe.push_back(cell->active_fe_index());
+      }
     fe.V.zero_out_ghost_values();
     return old;
   }
@@ -503,6 +643,74 @@ namespace perideal
   Adaptivity::old_point(const Snapshot &old, const PointKey &key) const
   {
     return find_by_key(old.keys, old.order, key);
+  }
+
+  std::pair<unsigned int, Triangulation<dim>::cell_iterator>
+  Adaptivity::old_fe_cell(const Snapshot &old, const CellIterator &cell) const
+  {
+    // The cell itself, or the ancestor a conversion refined.
+    for (Triangulation<dim>::cell_iterator c = cell;; c = c->parent())
+      {
+        const auto it = std::lower_bound(old.cell_id.begin(), old.cell_id.end(), c->id());
+        if (it != old.cell_id.end() && *it == c->id())
+          return {static_cast<unsigned int>(it - old.cell_id.begin()), c};
+        if (c->level() == 0)
+          return {numbers::invalid_unsigned_int, c};
+      }
+  }
+
+  std::array<double, 2 * dim>
+  Adaptivity::interpolate(const Snapshot &old, const unsigned int k, const Triangulation<dim>::cell_iterator &source,
+                          const Point<dim> &x, const Mapping<dim> &mapping) const
+  {
+    const FiniteElement<dim> &fe   = discretization.fe[old.cell_fe[k]];
+    const Point<dim>          unit = mapping.transform_real_to_unit_cell(source, x);
+    std::array<double, 2 * dim> uv{};
+    for (unsigned int j = 0; j < fe.n_dofs_per_cell(); ++j)
+      {
+        const unsigned int d   = fe.system_to_component_index(j).first;
+        const double       phi = fe.shape_value_component(j, unit, d);
+        uv[d] += phi * old.cell_u[k][j];
+        uv[dim + d] += phi * old.cell_v[k][j];
+      }
+    return uv;
+  }
+
+  void
+  Adaptivity::restore_fe_field(const Snapshot &old, const Mapping<dim> &mapping)
+  {
+    // The cells that stay FE from their own values; those a conversion
+    // refined around the converted ones (p4est's 2:1 balance) from their
+    // parent's field at their support points, which the nested Lagrange
+    // elements reproduce exactly.
+    ContinuumField &fe = coupling.continuum;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        {
+          const auto [k, source] = old_fe_cell(old, cell);
+          AssertThrow(k != numbers::invalid_unsigned_int && old.cell_fe[k] == cell->active_fe_index(),
+                      ExcInternalError());
+          const FiniteElement<dim>            &element = cell->get_fe();
+          std::vector<types::global_dof_index> dofs(element.n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          const bool same = source->level() == cell->level();
+          for (unsigned int j = 0; j < dofs.size(); ++j)
+            if (fe.U.in_local_range(dofs[j]))
+              {
+                if (same)
+                  {
+                    fe.U(dofs[j]) = old.cell_u[k][j];
+                    fe.V(dofs[j]) = old.cell_v[k][j];
+                    continue;
+                  }
+                const Point<dim> x =
+                  mapping.transform_unit_to_real_cell(cell, element.get_unit_support_points()[j]);
+                const auto         uv = interpolate(old, k, source, x, mapping);
+                const unsigned int d  = element.system_to_component_index(j).first;
+                fe.U(dofs[j])         = uv[d];
+                fe.V(dofs[j])         = uv[dim + d];
+              }
+        }
   }
 
   void
@@ -527,42 +735,19 @@ namespace perideal
             }
         else
           {
-            // A converted cell's point: its own cell's FE field at the centroid.
-            const CellIterator &cell = cloud.cell[i];
-            const unsigned int  c    = cell->active_cell_index();
-            AssertThrow(old.cell_fe[c] > 0, ExcInternalError());
-            const FiniteElement<dim> &fe   = discretization.fe[old.cell_fe[c]];
-            const Point<dim>          unit = mapping.transform_real_to_unit_cell(cell, cloud.position(i));
+            // A converted cell's point: the FE field at its centroid, of its
+            // own cell or, if the conversion refined it, of the cell it came from.
+            const auto [k, source] = old_fe_cell(old, cloud.cell[i]);
+            AssertThrow(k != numbers::invalid_unsigned_int, ExcInternalError());
+            std::array<double, 2 * dim> uv = interpolate(old, k, source, cloud.position(i), mapping);
             for (unsigned int d = 0; d < dim; ++d)
               {
-                state.displacement.local_element(dim * i + d) = 0;
-                state.velocity.local_element(dim * i + d)     = 0;
-              }
-            for (unsigned int k = 0; k < fe.n_dofs_per_cell(); ++k)
-              {
-                const unsigned int d   = fe.system_to_component_index(k).first;
-                const double       phi = fe.shape_value_component(k, unit, d);
-                state.displacement.local_element(dim * i + d) += phi * old.cell_u[c][k];
-                state.velocity.local_element(dim * i + d) += phi * old.cell_v[c][k];
+                state.displacement.local_element(dim * i + d) = uv[d];
+                state.velocity.local_element(dim * i + d)     = uv[dim + d];
               }
           }
       }
-    // The FE field of the cells that stay FE, from their own values.
-    ContinuumField &fe = coupling.continuum;
-    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
-        {
-          const unsigned int c = cell->active_cell_index();
-          AssertThrow(old.cell_fe[c] == cell->active_fe_index(), ExcInternalError());
-          std::vector<types::global_dof_index> dofs(cell->get_fe().n_dofs_per_cell());
-          cell->get_dof_indices(dofs);
-          for (unsigned int k = 0; k < dofs.size(); ++k)
-            if (fe.U.in_local_range(dofs[k]))
-              {
-                fe.U(dofs[k]) = old.cell_u[c][k];
-                fe.V(dofs[k]) = old.cell_v[c][k];
-              }
-        }
+    restore_fe_field(old, mapping);
     state.distribute_displacement();
     state.distribute_velocity();
     restore_bonds(old, point_map);
@@ -597,6 +782,6 @@ namespace perideal
           if (!model.damage.empty() && !old.damage.empty())
             model.damage[b] = old.damage[bond_map[b]];
         }
-    model.field_store().carry_history(*old.history, point_map, bond_map);
+    model.field_store().carry_history(old.history, point_map, bond_map);
   }
 } // namespace perideal

@@ -41,7 +41,12 @@ namespace perideal
     , contact(deck.contact)
     , has_continuum(deck.has_continuum)
     , force_blending(deck.has_continuum && deck.coupling.scheme == CouplingParameters::Scheme::force)
-    , triangulation(comm)
+    , conversions_refine(deck.adaptivity.active() && deck.adaptivity.refine)
+    // Conversions that refine cells keep the partition (the state moves by
+    // identity on each rank): p4est repartitions only when asked to.
+    , triangulation(comm, Triangulation<dim>::none,
+                    conversions_refine ? parallel::distributed::Triangulation<dim>::no_automatic_repartitioning :
+                                         parallel::distributed::Triangulation<dim>::default_setting)
     , fe(FESystem<dim>(FE_DGQ<dim>(0), dim), FESystem<dim>(FE_Q<dim>(1), dim), FESystem<dim>(FE_Q<dim>(2), dim))
     , dof_handler(triangulation)
     , comm(comm)
@@ -205,6 +210,10 @@ namespace perideal
                           "Discretization/Refinement levels");
           triangulation.execute_coarsening_and_refinement();
         }
+      // Without automatic repartitioning, the partition of the refined mesh
+      // p4est would have made after the last pass.
+      if (conversions_refine && most > 0)
+        triangulation.repartition();
       check_region_expressions();
       if (most > 0)
         check_mesh_size(available, "the refined mesh", "Discretization/Refinement levels");

@@ -182,31 +182,61 @@ namespace perideal
     out.put(std::string());
   }
 
+  FieldStore::History
+  FieldStore::history(const unsigned int n_owned, const std::size_t n_bonds) const
+  {
+    History h;
+    for (const auto &[name, e] : fields)
+      if (e.spec.use == FieldUse::history)
+        h.point_width += e.spec.components;
+    h.bond_width = bond_fields.size();
+    h.points.resize(std::size_t(h.point_width) * n_owned);
+    h.bonds.resize(h.bond_width * n_bonds);
+    unsigned int offset = 0;
+    for (const auto &[name, e] : fields)
+      if (e.spec.use == FieldUse::history)
+        {
+          const unsigned int c = e.spec.components;
+          for (unsigned int i = 0; i < n_owned; ++i)
+            for (unsigned int k = 0; k < c; ++k)
+              h.points[std::size_t(h.point_width) * i + offset + k] = e.old.local_element(c * i + k);
+          offset += c;
+        }
+    unsigned int f = 0;
+    for (const auto &[name, e] : bond_fields)
+      {
+        for (std::size_t b = 0; b < n_bonds; ++b)
+          h.bonds[h.bond_width * b + f] = e.old[b];
+        ++f;
+      }
+    return h;
+  }
+
   void
-  FieldStore::carry_history(const FieldStore &from, const std::vector<unsigned int> &old_point,
+  FieldStore::carry_history(const History &from, const std::vector<unsigned int> &old_point,
                             const std::vector<std::size_t> &old_bond)
   {
+    unsigned int offset = 0;
     for (auto &[name, e] : fields)
-      {
-        const auto there = from.fields.find(name);
-        if (e.spec.use != FieldUse::history || there == from.fields.end())
-          continue;
-        const unsigned int c = e.spec.components;
-        for (unsigned int i = 0; i < old_point.size(); ++i)
-          if (old_point[i] != numbers::invalid_unsigned_int)
-            for (unsigned int k = 0; k < c; ++k)
-              e.old.local_element(c * i + k) = there->second.old.local_element(c * old_point[i] + k);
-        e.now = e.old;
-      }
+      if (e.spec.use == FieldUse::history)
+        {
+          const unsigned int c = e.spec.components;
+          for (unsigned int i = 0; i < old_point.size(); ++i)
+            if (old_point[i] != numbers::invalid_unsigned_int)
+              for (unsigned int k = 0; k < c; ++k)
+                e.old.local_element(c * i + k) = from.points[std::size_t(from.point_width) * old_point[i] + offset + k];
+          e.now = e.old;
+          offset += c;
+        }
+    AssertThrow(offset == from.point_width && bond_fields.size() == from.bond_width, ExcInternalError());
+    unsigned int f = 0;
     for (auto &[name, e] : bond_fields)
       {
-        const auto there = from.bond_fields.find(name);
-        if (there == from.bond_fields.end())
-          continue;
         for (std::size_t b = 0; b < old_bond.size(); ++b)
           if (old_bond[b] != std::size_t(-1))
-            e.old[b] = there->second.old[old_bond[b]];
+            e.old[b] = from.bonds[from.bond_width * old_bond[b] + f];
         e.now = e.old;
+        ++f;
       }
     bonds_written = false;
   }

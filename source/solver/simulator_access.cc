@@ -133,6 +133,11 @@ namespace perideal
   {
     // The converted cells first: a restart makes their points and bonds
     // before it compares the discretization and reads the state.
+    if (adaptivity && adaptivity->refines())
+      {
+        out.section("refined cells");
+        out.put(adaptivity->refinement_history());
+      }
     if (adaptivity)
       {
         out.section("converted cells");
@@ -153,6 +158,12 @@ namespace perideal
   void
   SimulatorAccess::load_parts(CheckpointReader &in) const
   {
+    if (adaptivity && adaptivity->refines())
+      {
+        // The mesh as the conversions refined it, before its cells are counted.
+        in.section("refined cells");
+        adaptivity->replay_refinement(in.get<std::vector<std::pair<unsigned int, PointKey>>>());
+      }
     if (adaptivity)
       {
         in.section("converted cells");

@@ -1,18 +1,21 @@
 #!/bin/bash
-# Runs the crack branching plate all-PD, coupled and adaptive at each spacing, one
+# Runs the crack branching plate all-PD, coupled, adaptive and adaptive on a coarse
+# mesh (adaptive_refined.prm) at each spacing, one
 # after the other on the same ranks, and prints the table of README.md
 # (analyze.py), which also draws branching.png.
 #
 # usage: doc/examples/crack_branching/run.sh [ranks (default 2)] [pd_app (default build/pd_app)] [spacings in mm (default "0.5 0.25")]
+#        [scenes (default "all_pd coupled adaptive adaptive_refined")]
 # Output in doc/examples/crack_branching/output/<run>-<spacing>mm/ with its
-# log. About 10 minutes on 2 cores for the default spacings.
+# log. About 13 minutes on 2 cores for the default spacings.
 set -eu -o pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 ranks=${1:-2}
 pd_app=$(realpath "${2:-$here/../../../build/pd_app}")
 spacings=${3:-0.5 0.25}
+scenes=${4:-all_pd coupled adaptive adaptive_refined}
 for h in $spacings; do
-  for scene in all_pd coupled adaptive; do
+  for scene in $scenes; do
     run=$here/output/$scene-${h}mm
     mkdir -p "$run"
     # The spacing h mm: cells 4 h (refined twice to h), 100/(4 h) x 40/(4 h),

@@ -1,5 +1,6 @@
 #!/bin/bash
-# Runs the notched plate coupled, all-PD and adaptive, one after the other on
+# Runs the notched plate coupled, all-PD, adaptive and adaptive on a coarse mesh
+# (adaptive_refined.prm), one after the other on
 # the same ranks, and prints the comparison tables of README.md (compare.py,
 # tip_times.py).
 #
@@ -11,10 +12,11 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 ranks=${1:-2}
 pd_app=${2:-$here/../../../build/pd_app}
 cd "$here"
-for run in coupled all_pd adaptive; do
+for run in coupled all_pd adaptive adaptive_refined; do
   echo "running $run.prm on $ranks ranks ..."
   mpirun -np "$ranks" "$pd_app" "$run.prm" > "$run.log"
 done
 python3 compare.py .
-# The run that starts with PD only at the notch (adaptive.prm) beside the two.
-python3 tip_times.py output/all_pd.globals.csv output/coupled.globals.csv output/adaptive.globals.csv
+# The runs that start with PD only at the notch (adaptive*.prm) beside the two.
+python3 tip_times.py output/all_pd.globals.csv output/coupled.globals.csv output/adaptive.globals.csv \
+  output/adaptive_refined.globals.csv

@@ -21,8 +21,10 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/timer.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/hp/fe_values.h>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <utility>
@@ -78,6 +80,24 @@ namespace perideal
     /// Collective.
     void
     restore_converted(const std::vector<std::uint8_t> &converted);
+    /// Whether conversions refine the converted cells (Refine converted cells).
+    bool
+    refines() const
+    {
+      return parameters.refine;
+    }
+    /// Refine converted cells: the cells each refinement pass of the
+    /// conversions so far split on this rank (pass, CellId), for a checkpoint.
+    const std::vector<std::pair<unsigned int, PointKey>> &
+    refinement_history() const
+    {
+      return refined;
+    }
+    /// A restart: refines the mesh as the conversions before the checkpoint
+    /// did (@p history from refinement_history()), before
+    /// restore_converted(). Collective.
+    void
+    replay_refinement(const std::vector<std::pair<unsigned int, PointKey>> &history);
     /// Whether cells have converted (in this run, or before its checkpoint:
     /// the record comes with it).
     bool
@@ -112,6 +132,17 @@ namespace perideal
     /// Collective.
     std::size_t
     mark_cells(const std::vector<dealii::Point<dim>> &triggers, const double width);
+    /// Refine converted cells: splits the converted cells coarser than
+    /// target_level, pass by pass, and flags their children converted;
+    /// returns the passes made. Collective.
+    unsigned int
+    refine_converted_cells();
+    /// One refinement pass of the flagged cells: the converted flags follow
+    /// the cells to their children; an Error if p4est's balance would
+    /// refine a peridynamic cell (its point's state has no FE field to
+    /// come from). Collective.
+    void
+    execute_refinement();
     /// Kinetic and strain energy of the current state (its ghosts updated,
     /// forces evaluated with energy). Collective.
     std::pair<double, double>
@@ -132,6 +163,17 @@ namespace perideal
     /// restore_bonds().
     void
     restore(const Snapshot &old);
+    /// The FE cell of @p old that @p cell is or came from (a conversion
+    /// refined it) and that cell's index in @p old, invalid if none.
+    std::pair<unsigned int, dealii::Triangulation<dim>::cell_iterator>
+    old_fe_cell(const Snapshot &old, const CellIterator &cell) const;
+    /// u and v (dim each) of @p old's FE cell @p k (the cell @p source) at @p x.
+    std::array<double, 2 * dim>
+    interpolate(const Snapshot &old, const unsigned int k, const dealii::Triangulation<dim>::cell_iterator &source,
+                const dealii::Point<dim> &x, const dealii::Mapping<dim> &mapping) const;
+    /// The FE DoFs of the owned cells that stay FE, from @p old.
+    void
+    restore_fe_field(const Snapshot &old, const dealii::Mapping<dim> &mapping);
     /// The bond damage and the models' history from @p old; @p point_map:
     /// per owned point its old index (or -1).
     void
@@ -152,5 +194,8 @@ namespace perideal
     double                      wave_speed       = 0; // the fastest P wave of the convertible blocks
     unsigned int                interval         = 10;   // steps between checks (use_integrator())
     bool                        inertia          = true; // waves move between checks
+    int                         target_level     = 0;    // Refine converted cells: the PD block's finest level
+    unsigned int                passes           = 0;    // refinement passes of the conversions so far
+    std::vector<std::pair<unsigned int, PointKey>> refined; // per pass, the owned cells it split
   };
 } // namespace perideal

@@ -46,6 +46,7 @@ namespace perideal
     double                    buffer         = 0; // 0: the rule (doc/adaptivity.md)
     double                    margin         = 0; // converts with the buffer
     bool                      check_kept     = false; // search the kept families again (tests)
+    bool                      refine         = false; // refine converted cells to the PD block's finest level
     std::vector<unsigned int> convertible;        // block numbers
     unsigned int              pd_block = 0;
   };

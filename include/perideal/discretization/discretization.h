@@ -91,6 +91,9 @@ namespace perideal
     const ContactParameters &contact; // which blocks may hold particles without bonds
     const bool                                            has_continuum;
     const bool force_blending; // Coupling/Scheme = force blending
+    // Adaptivity/Refine converted cells: the triangulation repartitions
+    // only when asked (conversions refine cells in place).
+    const bool conversions_refine;
 
     dealii::parallel::distributed::Triangulation<dim> triangulation;
     // FE_DGQ(0)^dim on PD cells (active FE index 0), FE_Q(p)^dim on the cells

@@ -152,13 +152,26 @@ namespace perideal
     save(CheckpointWriter &out) const;
     void
     load(CheckpointReader &in);
+    /// The committed history (N) of the owned points and their bonds as
+    /// rows, which a conversion carries over (and a rebalance moves between
+    /// ranks, a row with its point or bond): per point the components of
+    /// every history point field, per bond every history bond field, fields
+    /// in name order.
+    struct History
+    {
+      unsigned int        point_width = 0, bond_width = 0; // doubles per row
+      std::vector<double> points, bonds;
+    };
+    History
+    history(const unsigned int n_owned, const std::size_t n_bonds) const;
     /// After a rebuild of the points and bonds (a conversion,
     /// adaptivity.h): every history field's committed values (N, and NP1 =
-    /// N as after load()) of the points and bonds @p from also held, taken
-    /// from there. @p old_point gives per owned point its index in @p from's
-    /// numbering, @p old_bond per bond its old index (-1: new, left zero).
+    /// N as after load()) of the points and bonds @p from holds. @p old_point
+    /// gives per owned point its row in @p from (invalid: new, left zero),
+    /// @p old_bond per bond its row (-1: new, left zero). The fields are
+    /// this run's: the layout of history().
     void
-    carry_history(const FieldStore &from, const std::vector<unsigned int> &old_point,
+    carry_history(const History &from, const std::vector<unsigned int> &old_point,
                   const std::vector<std::size_t> &old_bond);
 
   private:
