@@ -15,6 +15,7 @@
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_q1.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/numerics/rtree.h>
 
 #include <algorithm>
@@ -99,6 +100,11 @@ namespace perideal
                       "point: the FE cells can be coarse where nothing breaks and PD is fine where it does. FE "
                       "cells that p4est's 2:1 balance refines with them stay FE, their field interpolated; the "
                       "horizon is the block's. The refinement is part of a checkpoint (doc/adaptivity.md).");
+    prm.declare_entry("Rebalance threshold", "0", Patterns::Double(0),
+                      "After a conversion on several ranks: if the largest rank's work (its bonds, plus a few per "
+                      "point and one per cell, the set-up's measure) exceeds the mean by more than this fraction, "
+                      "the mesh is partitioned again by that work and every point, bond and FE cell moves to its "
+                      "new rank with its state. 0: never (the partition of the set-up stays).");
     prm.leave_subsection();
   }
 
@@ -121,6 +127,7 @@ namespace perideal
     margin         = prm.get_double("Buffer margin");
     check_kept     = prm.get_bool("Check kept families");
     refine         = prm.get_bool("Refine converted cells");
+    rebalance      = prm.get_double("Rebalance threshold");
     prm.leave_subsection();
   }
 
@@ -368,13 +375,13 @@ namespace perideal
               cell->level() < target_level)
             {
               cell->set_refine_flag();
-              refined.emplace_back(passes, cell->id().template to_binary<dim>());
+              history.split.emplace_back(history.events.size(), cell->id().template to_binary<dim>());
               flagged = true;
             }
         if (Utilities::MPI::max(flagged ? 1u : 0u, comm) == 0)
           return made;
         execute_refinement();
-        ++passes;
+        history.events.push_back(0);
         ++made;
       }
   }
@@ -445,23 +452,36 @@ namespace perideal
   }
 
   void
-  Adaptivity::replay_refinement(const std::vector<std::pair<unsigned int, PointKey>> &history)
+  Adaptivity::replay(const MeshHistory &events)
   {
-    const unsigned int n = Utilities::MPI::max(history.empty() ? 0u : history.back().first + 1, comm);
-    for (unsigned int pass = 0; pass < n; ++pass)
+    auto &triangulation = discretization.triangulation;
+    for (unsigned int e = 0; e < events.events.size(); ++e)
       {
-        for (const auto &[p, key] : history)
-          if (p == pass)
-            {
-              const auto cell = discretization.triangulation.create_cell_iterator(CellId(key));
-              AssertThrow(cell->is_active() && cell->is_locally_owned(),
-                          ExcMessage("the checkpoint's refined cells do not match this mesh and partition"));
-              cell->set_refine_flag();
-            }
-        execute_refinement();
+        const auto owned = [&](const PointKey &key) {
+          const auto cell = triangulation.create_cell_iterator(CellId(key));
+          AssertThrow(cell->is_active() && cell->is_locally_owned(),
+                      ExcMessage("the checkpoint's mesh history does not match this mesh and partition"));
+          return cell;
+        };
+        if (events.events[e] == 0)
+          {
+            for (const auto &[event, key] : events.split)
+              if (event == e)
+                owned(key)->set_refine_flag();
+            execute_refinement();
+          }
+        else
+          {
+            for (const auto &cell : triangulation.active_cell_iterators())
+              if (cell->is_locally_owned())
+                cell->set_user_index(1);
+            for (std::size_t k = 0; k < events.weighed.size(); ++k)
+              if (events.weighed[k].first == e)
+                owned(events.weighed[k].second)->set_user_index(events.weights[k]);
+            discretization.repartition_by_cell_weights();
+          }
       }
-    refined = history;
-    passes  = n;
+    history = events;
   }
 
   std::pair<double, double>
@@ -535,7 +555,256 @@ namespace perideal
     pcout << "strain " << sci(before.second, 6) << " -> " << sci(after.second, 6) << ": energy jump " << sci(jump, 3)
           << " (" << sci(jump / std::max(scale, std::numeric_limits<double>::min()), 3) << " relative); "
           << sci(took, 3) << " s" << std::endl;
+    if (parameters.rebalance > 0 && Utilities::MPI::n_mpi_processes(comm) > 1)
+      rebalance(time);
     return true;
+  }
+
+  // ------------------------------------------------------------ rebalance
+
+  namespace
+  {
+    /// Plain values into and out of a cell's bytes (a rebalance's transfer).
+    template <typename T>
+    void
+    put(std::vector<char> &bytes, const T &value)
+    {
+      static_assert(std::is_trivially_copyable_v<T>, "plain values only");
+      const char *p = reinterpret_cast<const char *>(&value);
+      bytes.insert(bytes.end(), p, p + sizeof(T));
+    }
+    template <typename T>
+    void
+    put(std::vector<char> &bytes, const T *values, const std::size_t n)
+    {
+      const char *p = reinterpret_cast<const char *>(values);
+      bytes.insert(bytes.end(), p, p + n * sizeof(T));
+    }
+    struct Reader
+    {
+      std::vector<char>::const_iterator at;
+      template <typename T>
+      T
+      get()
+      {
+        T value;
+        std::copy(at, at + sizeof(T), reinterpret_cast<char *>(&value));
+        at += sizeof(T);
+        return value;
+      }
+      template <typename T>
+      void
+      get(std::vector<T> &to, const std::size_t n)
+      {
+        const std::size_t first = to.size();
+        to.resize(first + n);
+        std::copy(at, at + n * sizeof(T), reinterpret_cast<char *>(to.data() + first));
+        at += n * sizeof(T);
+      }
+    };
+  } // namespace
+
+  void
+  Adaptivity::rebalance(const double time)
+  {
+    const double imbalance = discretization.work_imbalance();
+    if (imbalance <= parameters.rebalance)
+      return;
+    TimerOutput::Scope t(timer, "adaptivity: rebalance");
+    const auto         start = std::chrono::steady_clock::now();
+    // The state by identity, each owned cell's share of it packed for the
+    // rank that owns the cell after p4est partitioned the mesh by the work.
+    const Snapshot                         old = take_snapshot();
+    std::vector<std::vector<unsigned int>> in_cell(discretization.triangulation.n_active_cells());
+    for (unsigned int i = 0; i < discretization.cloud.n_owned(); ++i)
+      in_cell[discretization.cloud.cell[i]->active_cell_index()].push_back(i);
+    std::vector<std::uint8_t> &converted = discretization.converted;
+    auto &triangulation = discretization.triangulation;
+    const unsigned int handle = triangulation.register_data_attach(
+      [&](const Triangulation<dim>::cell_iterator &cell, const Triangulation<dim>::CellStatus) {
+        return pack_cell(old, in_cell[cell->active_cell_index()], cell,
+                         !converted.empty() && converted[cell->active_cell_index()]);
+      },
+      /*returns_variable_size_data=*/true);
+    // The weights go into the mesh history (a restart partitions by them).
+    discretization.set_cell_weights();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          history.weighed.emplace_back(history.events.size(), cell->id().template to_binary<dim>());
+          history.weights.push_back(cell->user_index());
+        }
+    history.events.push_back(1);
+    discretization.repartition_by_cell_weights();
+    Snapshot                      moved;
+    std::vector<CellId>           converted_ids;
+    moved.history.point_width = old.history.point_width;
+    moved.history.bond_width  = old.history.bond_width;
+    moved.offsets.push_back(0);
+    triangulation.notify_ready_to_unpack(handle,
+                                         [&](const Triangulation<dim>::cell_iterator &cell,
+                                             const Triangulation<dim>::CellStatus,
+                                             const boost::iterator_range<std::vector<char>::const_iterator> &data) {
+                                           if (unpack_cell(moved, cell, data))
+                                             converted_ids.push_back(cell->id());
+                                         });
+    finish_moved(moved);
+    set_converted_after_rebalance(converted_ids);
+
+    // The points, bonds and parts of the new partition, the state from what moved.
+    const PreviousFamilies families = families_to_keep(moved);
+    discretization.previous_families = &families;
+    try
+      {
+        rebuild(time);
+      }
+    catch (...)
+      {
+        discretization.previous_families = nullptr;
+        throw;
+      }
+    discretization.previous_families = nullptr;
+    restore(moved);
+    energies(); // the forces of the new numbering
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    record.conversion_seconds += took;
+    pcout << "Adaptivity: rebalanced, the work out of balance by " << sci(100 * imbalance, 3) << "% -> "
+          << sci(100 * discretization.work_imbalance(), 3) << "%; " << sci(took, 3) << " s" << std::endl;
+  }
+
+  std::vector<char>
+  Adaptivity::pack_cell(const Snapshot &old, const std::vector<unsigned int> &points,
+                        const Triangulation<dim>::cell_iterator &cell, const bool converted) const
+  {
+    std::vector<char> bytes;
+    put(bytes, std::uint8_t(converted));
+    put(bytes, std::uint32_t(points.size()));
+    for (const unsigned int i : points)
+      {
+        put(bytes, old.keys[i]);
+        put(bytes, old.real[i]);
+        put(bytes, &old.position[dim * i], dim);
+        put(bytes, old.alpha[i]);
+        put(bytes, old.block[i]);
+        put(bytes, &old.u[dim * i], dim);
+        put(bytes, &old.v[dim * i], dim);
+        put(bytes, &old.history.points[std::size_t(old.history.point_width) * i], old.history.point_width);
+        put(bytes, std::uint64_t(old.offsets[i + 1] - old.offsets[i]));
+        for (std::size_t k = old.offsets[i]; k < old.offsets[i + 1]; ++k)
+          {
+            const std::size_t b = old.bond[k];
+            put(bytes, old.neighbor[k]);
+            if (!old.broken.empty())
+              put(bytes, old.broken[b]);
+            if (!old.damage.empty())
+              put(bytes, old.damage[b]);
+            put(bytes, &old.history.bonds[std::size_t(old.history.bond_width) * b], old.history.bond_width);
+          }
+      }
+    // The FE cell's values, if it is one.
+    const auto it = std::lower_bound(old.cell_id.begin(), old.cell_id.end(), cell->id());
+    const bool fe = it != old.cell_id.end() && *it == cell->id();
+    put(bytes, std::uint8_t(fe));
+    if (fe)
+      {
+        const std::size_t k = it - old.cell_id.begin();
+        put(bytes, std::uint32_t(old.cell_fe[k]));
+        put(bytes, std::uint32_t(old.cell_u[k].size()));
+        put(bytes, old.cell_u[k].data(), old.cell_u[k].size());
+        put(bytes, old.cell_v[k].data(), old.cell_v[k].size());
+      }
+    return bytes;
+  }
+
+  bool
+  Adaptivity::unpack_cell(Snapshot &moved, const Triangulation<dim>::cell_iterator &cell,
+                          const boost::iterator_range<std::vector<char>::const_iterator> &data) const
+  {
+    Reader             in{data.begin()};
+    const bool         converted = in.get<std::uint8_t>();
+    const unsigned int n         = in.get<std::uint32_t>();
+    for (unsigned int p = 0; p < n; ++p)
+      {
+        moved.keys.push_back(in.get<PointKey>());
+        moved.real.push_back(in.get<std::uint8_t>());
+        in.get(moved.position, dim);
+        moved.alpha.push_back(in.get<double>());
+        moved.block.push_back(in.get<unsigned int>());
+        in.get(moved.u, dim);
+        in.get(moved.v, dim);
+        in.get(moved.history.points, moved.history.point_width);
+        const std::size_t family = in.get<std::uint64_t>();
+        for (std::size_t k = 0; k < family; ++k)
+          {
+            moved.bond.push_back(moved.neighbor.size());
+            moved.neighbor.push_back(in.get<PointKey>());
+            if (!model.broken.empty())
+              moved.broken.push_back(in.get<std::uint8_t>());
+            if (!model.damage.empty())
+              moved.damage.push_back(in.get<double>());
+            in.get(moved.history.bonds, moved.history.bond_width);
+          }
+        moved.offsets.push_back(moved.neighbor.size());
+      }
+    if (in.get<std::uint8_t>())
+      {
+        moved.cell_id.push_back(cell->id());
+        moved.cell_fe.push_back(in.get<std::uint32_t>());
+        const unsigned int dofs = in.get<std::uint32_t>();
+        moved.cell_u.emplace_back();
+        moved.cell_v.emplace_back();
+        in.get(moved.cell_u.back(), dofs);
+        in.get(moved.cell_v.back(), dofs);
+      }
+    AssertThrow(in.at == data.end(), ExcInternalError());
+    return converted;
+  }
+
+  void
+  Adaptivity::finish_moved(Snapshot &moved) const
+  {
+    moved.order.resize(moved.keys.size());
+    for (unsigned int i = 0; i < moved.order.size(); ++i)
+      moved.order[i] = i;
+    std::sort(moved.order.begin(), moved.order.end(),
+              [&](const unsigned int a, const unsigned int b) { return moved.keys[a] < moved.keys[b]; });
+    // The FE cells in CellId order.
+    std::vector<unsigned int> by_id(moved.cell_id.size());
+    for (unsigned int k = 0; k < by_id.size(); ++k)
+      by_id[k] = k;
+    std::sort(by_id.begin(), by_id.end(),
+              [&](const unsigned int a, const unsigned int b) { return moved.cell_id[a] < moved.cell_id[b]; });
+    Snapshot sorted;
+    for (const unsigned int k : by_id)
+      {
+        sorted.cell_id.push_back(moved.cell_id[k]);
+        sorted.cell_fe.push_back(moved.cell_fe[k]);
+        sorted.cell_u.push_back(std::move(moved.cell_u[k]));
+        sorted.cell_v.push_back(std::move(moved.cell_v[k]));
+      }
+    moved.cell_id = std::move(sorted.cell_id);
+    moved.cell_fe = std::move(sorted.cell_fe);
+    moved.cell_u  = std::move(sorted.cell_u);
+    moved.cell_v  = std::move(sorted.cell_v);
+  }
+
+  void
+  Adaptivity::set_converted_after_rebalance(std::vector<CellId> &owned_converted)
+  {
+    // The owned cells' flags came with them; the ghosts' from their owners.
+    std::sort(owned_converted.begin(), owned_converted.end());
+    std::vector<std::uint8_t> &converted = discretization.converted;
+    converted.assign(discretization.triangulation.n_active_cells(), 0);
+    for (const auto &cell : discretization.triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        converted[cell->active_cell_index()] =
+          std::binary_search(owned_converted.begin(), owned_converted.end(), cell->id());
+    GridTools::exchange_cell_data_to_ghosts<std::uint8_t, Triangulation<dim>>(
+      discretization.triangulation,
+      [&](const Triangulation<dim>::active_cell_iterator &cell) { return converted[cell->active_cell_index()]; },
+      [&](const Triangulation<dim>::active_cell_iterator &cell, const std::uint8_t flag) {
+        converted[cell->active_cell_index()] = flag;
+      });
   }
 
   PreviousFamilies

@@ -231,29 +231,57 @@ namespace perideal
           {
             {
               TimerOutput::Scope t(timer, "setup: mesh and points");
-              // A cell's weight: its bonds plus a few for the per-point work
-              // (time integration, ghost exchange); cells without a point: 1.
-              for (const auto &cell : triangulation.active_cell_iterators())
-                if (cell->is_locally_owned())
-                  cell->set_user_index(1);
-              for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-                {
-                  const unsigned int weight = bonds.offsets[i + 1] - bonds.offsets[i] + 4;
-                  // Virtual points share their FE cell.
-                  cloud.cell[i]->set_user_index(is_virtual(i) ? cloud.cell[i]->user_index() + weight : weight);
-                }
-              const auto connection = triangulation.signals.weight.connect(
-                [](const Triangulation<dim>::cell_iterator &cell, const Triangulation<dim>::CellStatus) -> unsigned int {
-                  return cell->user_index();
-                });
-              triangulation.repartition();
-              connection.disconnect();
+              repartition_by_work();
             }
             unbalanced_bonds = 100 * (balance.max / balance.avg - 1);
             build_points_and_bonds();
           }
       }
     check_isolated_points();
+  }
+
+  void
+  Discretization::set_cell_weights()
+  {
+    // A cell's weight: its bonds plus a few for the per-point work (time
+    // integration, ghost exchange); cells without a point: 1.
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell->set_user_index(1);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        const unsigned int weight = bonds.offsets[i + 1] - bonds.offsets[i] + 4;
+        // Virtual points share their FE cell.
+        cloud.cell[i]->set_user_index(is_virtual(i) ? cloud.cell[i]->user_index() + weight : weight);
+      }
+  }
+
+  double
+  Discretization::work_imbalance() const
+  {
+    double work = triangulation.n_locally_owned_active_cells();
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      work += bonds.offsets[i + 1] - bonds.offsets[i] + 4;
+    const auto balance = Utilities::MPI::min_max_avg(work, comm);
+    return balance.avg > 0 ? balance.max / balance.avg - 1 : 0.0;
+  }
+
+  void
+  Discretization::repartition_by_work()
+  {
+    set_cell_weights();
+    repartition_by_cell_weights();
+  }
+
+  void
+  Discretization::repartition_by_cell_weights()
+  {
+    const auto connection = triangulation.signals.weight.connect(
+      [](const Triangulation<dim>::cell_iterator &cell, const Triangulation<dim>::CellStatus) -> unsigned int {
+        return cell->user_index();
+      });
+    triangulation.repartition();
+    connection.disconnect();
   }
 
   void

@@ -133,10 +133,14 @@ namespace perideal
   {
     // The converted cells first: a restart makes their points and bonds
     // before it compares the discretization and reads the state.
-    if (adaptivity && adaptivity->refines())
+    if (adaptivity && adaptivity->changes_mesh())
       {
-        out.section("refined cells");
-        out.put(adaptivity->refinement_history());
+        const Adaptivity::MeshHistory &history = adaptivity->mesh_history();
+        out.section("mesh history");
+        out.put(history.events);
+        out.put(history.split);
+        out.put(history.weighed);
+        out.put(history.weights);
       }
     if (adaptivity)
       {
@@ -158,11 +162,17 @@ namespace perideal
   void
   SimulatorAccess::load_parts(CheckpointReader &in) const
   {
-    if (adaptivity && adaptivity->refines())
+    if (adaptivity && adaptivity->changes_mesh())
       {
-        // The mesh as the conversions refined it, before its cells are counted.
-        in.section("refined cells");
-        adaptivity->replay_refinement(in.get<std::vector<std::pair<unsigned int, PointKey>>>());
+        // The mesh as the conversions refined and partitioned it, before its
+        // cells are counted.
+        Adaptivity::MeshHistory history;
+        in.section("mesh history");
+        in.get(history.events);
+        in.get(history.split);
+        in.get(history.weighed);
+        in.get(history.weights);
+        adaptivity->replay(history);
       }
     if (adaptivity)
       {

@@ -22,6 +22,9 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/fe/mapping.h>
+#include <deal.II/grid/tria.h>
+
+#include <boost/range/iterator_range.hpp>
 #include <deal.II/hp/fe_values.h>
 
 #include <array>
@@ -80,24 +83,35 @@ namespace perideal
     /// Collective.
     void
     restore_converted(const std::vector<std::uint8_t> &converted);
-    /// Whether conversions refine the converted cells (Refine converted cells).
+    /// How the conversions so far changed this rank's mesh and partition,
+    /// for a checkpoint: the events in order (the same on every rank), a
+    /// refinement pass (0) or a rebalance (1); per pass the owned cells it
+    /// split, per rebalance each owned cell's weight.
+    struct MeshHistory
+    {
+      std::vector<std::uint8_t>                      events;
+      std::vector<std::pair<unsigned int, PointKey>> split;   // (event, CellId)
+      std::vector<std::pair<unsigned int, PointKey>> weighed; // (event, CellId)
+      std::vector<unsigned int>                      weights; // per weighed cell
+    };
+    /// Whether conversions may refine cells or move them between ranks
+    /// (Refine converted cells, Rebalance threshold): then a checkpoint
+    /// holds the mesh history.
     bool
-    refines() const
+    changes_mesh() const
     {
-      return parameters.refine;
+      return parameters.refine || parameters.rebalance > 0;
     }
-    /// Refine converted cells: the cells each refinement pass of the
-    /// conversions so far split on this rank (pass, CellId), for a checkpoint.
-    const std::vector<std::pair<unsigned int, PointKey>> &
-    refinement_history() const
+    const MeshHistory &
+    mesh_history() const
     {
-      return refined;
+      return history;
     }
-    /// A restart: refines the mesh as the conversions before the checkpoint
-    /// did (@p history from refinement_history()), before
+    /// A restart: refines and partitions the mesh as the conversions before
+    /// the checkpoint did (@p events from mesh_history()), before
     /// restore_converted(). Collective.
     void
-    replay_refinement(const std::vector<std::pair<unsigned int, PointKey>> &history);
+    replay(const MeshHistory &events);
     /// Whether cells have converted (in this run, or before its checkpoint:
     /// the record comes with it).
     bool
@@ -174,6 +188,29 @@ namespace perideal
     /// The FE DoFs of the owned cells that stay FE, from @p old.
     void
     restore_fe_field(const Snapshot &old, const dealii::Mapping<dim> &mapping);
+    /// After a conversion: if the ranks' work is out of balance by more than
+    /// Rebalance threshold, partitions the mesh by it and moves each point,
+    /// bond and FE cell with its state to its new rank (the points, bonds
+    /// and parts made again as at a conversion). Collective.
+    void
+    rebalance(const double time);
+    /// One owned cell's share of @p old (its points @p points, its FE
+    /// values, its converted flag) as bytes, and back into @p moved on the
+    /// cell's new owner (returns the converted flag).
+    std::vector<char>
+    pack_cell(const Snapshot &old, const std::vector<unsigned int> &points,
+              const dealii::Triangulation<dim>::cell_iterator &cell, const bool converted) const;
+    bool
+    unpack_cell(Snapshot &moved, const dealii::Triangulation<dim>::cell_iterator &cell,
+                const boost::iterator_range<std::vector<char>::const_iterator> &data) const;
+    /// The received snapshot's key order and its FE cells in CellId order.
+    void
+    finish_moved(Snapshot &moved) const;
+    /// The converted flags of the new partition: the owned cells' from
+    /// @p owned_converted (the ids of those that came converted), the
+    /// ghosts' from their owners. Collective.
+    void
+    set_converted_after_rebalance(std::vector<dealii::CellId> &owned_converted);
     /// The bond damage and the models' history from @p old; @p point_map:
     /// per owned point its old index (or -1).
     void
@@ -195,7 +232,6 @@ namespace perideal
     unsigned int                interval         = 10;   // steps between checks (use_integrator())
     bool                        inertia          = true; // waves move between checks
     int                         target_level     = 0;    // Refine converted cells: the PD block's finest level
-    unsigned int                passes           = 0;    // refinement passes of the conversions so far
-    std::vector<std::pair<unsigned int, PointKey>> refined; // per pass, the owned cells it split
+    MeshHistory                 history; // the conversions' refinement passes and rebalances
   };
 } // namespace perideal

@@ -49,6 +49,23 @@ namespace perideal
     void
     rebuild_points_and_bonds();
 
+    /// The ranks' work out of balance: the largest rank's bonds (plus a few
+    /// per point and one per cell) over the mean, minus 1. Collective.
+    double
+    work_imbalance() const;
+    /// Sets each owned cell's user index to its weight (bonds + 4 per point,
+    /// its virtual points' for an FE cell, 1 without a point) and lets p4est
+    /// partition the mesh by them; the points and bonds must be made again.
+    /// Collective.
+    void
+    repartition_by_work();
+    /// Each owned cell's user index = its weight for repartition_by_work().
+    void
+    set_cell_weights();
+    /// p4est partitions the mesh by the owned cells' user indices. Collective.
+    void
+    repartition_by_cell_weights();
+
     /// Whether @p x (in @p cell) lies in the region named @p region ("All": everywhere).
     bool
     in_region(const std::string &region, const dealii::Point<dim> &x, const CellIterator &cell) const
