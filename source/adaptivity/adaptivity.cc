@@ -100,11 +100,11 @@ namespace perideal
                       "point: the FE cells can be coarse where nothing breaks and PD is fine where it does. FE "
                       "cells that p4est's 2:1 balance refines with them stay FE, their field interpolated; the "
                       "horizon is the block's. The refinement is part of a checkpoint (doc/adaptivity.md).");
-    prm.declare_entry("Rebalance threshold", "0", Patterns::Double(0),
+    prm.declare_entry("Rebalance threshold", "0.25", Patterns::Double(0),
                       "After a conversion on several ranks: if the largest rank's work (its bonds, plus a few per "
                       "point and one per cell, the set-up's measure) exceeds the mean by more than this fraction, "
                       "the mesh is partitioned again by that work and every point, bond and FE cell moves to its "
-                      "new rank with its state. 0: never (the partition of the set-up stays).");
+                      "new rank with its state (doc/adaptivity.md). 0: never (the partition of the set-up stays).");
     prm.leave_subsection();
   }
 
@@ -614,7 +614,11 @@ namespace perideal
     const auto         start = std::chrono::steady_clock::now();
     // The state by identity, each owned cell's share of it packed for the
     // rank that owns the cell after p4est partitioned the mesh by the work.
-    const Snapshot                         old = take_snapshot();
+    Snapshot                               old = take_snapshot();
+    Snapshot                               moved;
+    moved.history.point_width = old.history.point_width;
+    moved.history.bond_width  = old.history.bond_width;
+    moved.offsets.push_back(0);
     std::vector<std::vector<unsigned int>> in_cell(discretization.triangulation.n_active_cells());
     for (unsigned int i = 0; i < discretization.cloud.n_owned(); ++i)
       in_cell[discretization.cloud.cell[i]->active_cell_index()].push_back(i);
@@ -636,11 +640,10 @@ namespace perideal
         }
     history.events.push_back(1);
     discretization.repartition_by_cell_weights();
-    Snapshot                      moved;
-    std::vector<CellId>           converted_ids;
-    moved.history.point_width = old.history.point_width;
-    moved.history.bond_width  = old.history.bond_width;
-    moved.offsets.push_back(0);
+    // Packed and sent: the sender's copy is not needed while the moved one is built.
+    old     = Snapshot();
+    in_cell = std::vector<std::vector<unsigned int>>();
+    std::vector<CellId> converted_ids;
     triangulation.notify_ready_to_unpack(handle,
                                          [&](const Triangulation<dim>::cell_iterator &cell,
                                              const Triangulation<dim>::CellStatus,
@@ -1035,7 +1038,12 @@ namespace perideal
         {
           const unsigned int o     = point_map[i];
           const auto         first = old.neighbor.begin() + old.offsets[o], last = old.neighbor.begin() + old.offsets[o + 1];
-          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+          // A kept family comes in the snapshot's order: bond by bond, no search.
+          std::size_t b = bonds.offsets[i];
+          if (bonds.offsets[i + 1] - b == std::size_t(last - first))
+            for (auto it = first; it != last && cloud.key[bonds.neighbor[b]] == *it; ++it, ++b)
+              bond_map[b] = old.bond[it - old.neighbor.begin()];
+          for (; b < bonds.offsets[i + 1]; ++b)
             {
               const PointKey &key = cloud.key[bonds.neighbor[b]];
               const auto      it  = std::lower_bound(first, last, key);

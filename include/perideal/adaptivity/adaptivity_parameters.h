@@ -47,7 +47,7 @@ namespace perideal
     double                    margin         = 0; // converts with the buffer
     bool                      check_kept     = false; // search the kept families again (tests)
     bool                      refine         = false; // refine converted cells to the PD block's finest level
-    double                    rebalance      = 0;     // repartition when the work is out of balance by more (0: never)
+    double                    rebalance      = 0.25;  // repartition when the work is out of balance by more (0: never)
     std::vector<unsigned int> convertible;        // block numbers
     unsigned int              pd_block = 0;
   };
