@@ -95,6 +95,8 @@ namespace perideal
       void
       initialize(const ModelState &state, const std::vector<unsigned int> &points) override
       {
+        // The neighbourhoods change with a rebuild (a conversion): decide again.
+        uniform_known = false;
         VectorType &c = state.fields.get("pmb_micromodulus");
         for (const unsigned int i : points)
           c.local_element(i) = micromodulus();
@@ -109,7 +111,6 @@ namespace perideal
             if (sum > 0)
               c.local_element(i) *= M_PI * std::pow(horizon, 4) / sum;
           }
-        uniform_known = false;
       }
 
       std::vector<PointField>
