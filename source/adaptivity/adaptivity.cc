@@ -52,6 +52,24 @@ namespace perideal
     std::vector<unsigned int>        cell_fe;
     FieldStore::History              history; // the models' history per old owned point and bond
   };
+  namespace
+  {
+    /// The index in @p ids (sorted) of @p cell, or of its nearest ancestor
+    /// (a conversion refined it), and that cell; invalid_unsigned_int if none.
+    std::pair<unsigned int, Triangulation<dim>::cell_iterator>
+    self_or_ancestor(const std::vector<CellId> &ids, Triangulation<dim>::cell_iterator cell)
+    {
+      for (;; cell = cell->parent())
+        {
+          const auto it = std::lower_bound(ids.begin(), ids.end(), cell->id());
+          if (it != ids.end() && *it == cell->id())
+            return {static_cast<unsigned int>(it - ids.begin()), cell};
+          if (cell->level() == 0)
+            return {numbers::invalid_unsigned_int, cell};
+        }
+    }
+  } // namespace
+
   // ------------------------------------------------------------ parameters
 
   void
@@ -439,30 +457,22 @@ namespace perideal
     converted.assign(discretization.triangulation.n_active_cells(), 0);
     for (const auto &cell : discretization.triangulation.active_cell_iterators())
       if (!cell->is_artificial())
-        for (Triangulation<dim>::cell_iterator c = cell;; c = c->parent())
-          {
-            if (std::binary_search(converted_ids.begin(), converted_ids.end(), c->id()))
-              {
-                converted[cell->active_cell_index()] = 1;
-                break;
-              }
-            if (c->level() == 0)
-              break;
-          }
+        converted[cell->active_cell_index()] =
+          self_or_ancestor(converted_ids, cell).first != numbers::invalid_unsigned_int;
   }
 
   void
   Adaptivity::replay(const MeshHistory &events)
   {
     auto &triangulation = discretization.triangulation;
+    const auto owned = [&](const PointKey &key) {
+      const auto cell = triangulation.create_cell_iterator(CellId(key));
+      AssertThrow(cell->is_active() && cell->is_locally_owned(),
+                  ExcMessage("the checkpoint's mesh history does not match this mesh and partition"));
+      return cell;
+    };
     for (unsigned int e = 0; e < events.events.size(); ++e)
       {
-        const auto owned = [&](const PointKey &key) {
-          const auto cell = triangulation.create_cell_iterator(CellId(key));
-          AssertThrow(cell->is_active() && cell->is_locally_owned(),
-                      ExcMessage("the checkpoint's mesh history does not match this mesh and partition"));
-          return cell;
-        };
         if (events.events[e] == 0)
           {
             for (const auto &[event, key] : events.split)
@@ -517,20 +527,8 @@ namespace perideal
     const auto             before   = energies();
     const Snapshot         old      = take_snapshot();
     const unsigned int     splits   = parameters.refine ? refine_converted_cells() : 0;
-    const PreviousFamilies families = families_to_keep(old);
-    discretization.previous_families = &families;
-    try
-      {
-        rebuild(time);
-      }
-    catch (...)
-      {
-        discretization.previous_families = nullptr;
-        throw;
-      }
-    discretization.previous_families = nullptr;
     // 3. The state after: carried over, the new points from the FE field.
-    restore(old);
+    rebuild_and_restore(old, time);
     const auto   after = energies();
     // Without inertia a velocity is no motion (QuasiStatic's Velocity = load
     // step): the strain energy alone, as in the balance.
@@ -655,19 +653,7 @@ namespace perideal
     set_converted_after_rebalance(converted_ids);
 
     // The points, bonds and parts of the new partition, the state from what moved.
-    const PreviousFamilies families = families_to_keep(moved);
-    discretization.previous_families = &families;
-    try
-      {
-        rebuild(time);
-      }
-    catch (...)
-      {
-        discretization.previous_families = nullptr;
-        throw;
-      }
-    discretization.previous_families = nullptr;
-    restore(moved);
+    rebuild_and_restore(moved, time);
     energies(); // the forces of the new numbering
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     record.conversion_seconds += took;
@@ -704,13 +690,12 @@ namespace perideal
             put(bytes, &old.history.bonds[std::size_t(old.history.bond_width) * b], old.history.bond_width);
           }
       }
-    // The FE cell's values, if it is one.
-    const auto it = std::lower_bound(old.cell_id.begin(), old.cell_id.end(), cell->id());
-    const bool fe = it != old.cell_id.end() && *it == cell->id();
+    // The FE cell's values, if it is one (nothing was refined since the snapshot).
+    const unsigned int k  = self_or_ancestor(old.cell_id, cell).first;
+    const bool         fe = k != numbers::invalid_unsigned_int;
     put(bytes, std::uint8_t(fe));
     if (fe)
       {
-        const std::size_t k = it - old.cell_id.begin();
         put(bytes, std::uint32_t(old.cell_fe[k]));
         put(bytes, std::uint32_t(old.cell_u[k].size()));
         put(bytes, old.cell_u[k].data(), old.cell_u[k].size());
@@ -808,6 +793,24 @@ namespace perideal
       [&](const Triangulation<dim>::active_cell_iterator &cell, const std::uint8_t flag) {
         converted[cell->active_cell_index()] = flag;
       });
+  }
+
+  void
+  Adaptivity::rebuild_and_restore(const Snapshot &old, const double time)
+  {
+    const PreviousFamilies families  = families_to_keep(old);
+    discretization.previous_families = &families;
+    try
+      {
+        rebuild(time);
+      }
+    catch (...)
+      {
+        discretization.previous_families = nullptr;
+        throw;
+      }
+    discretization.previous_families = nullptr;
+    restore(old);
   }
 
   PreviousFamilies
@@ -920,15 +923,7 @@ namespace perideal
   std::pair<unsigned int, Triangulation<dim>::cell_iterator>
   Adaptivity::old_fe_cell(const Snapshot &old, const CellIterator &cell) const
   {
-    // The cell itself, or the ancestor a conversion refined.
-    for (Triangulation<dim>::cell_iterator c = cell;; c = c->parent())
-      {
-        const auto it = std::lower_bound(old.cell_id.begin(), old.cell_id.end(), c->id());
-        if (it != old.cell_id.end() && *it == c->id())
-          return {static_cast<unsigned int>(it - old.cell_id.begin()), c};
-        if (c->level() == 0)
-          return {numbers::invalid_unsigned_int, c};
-      }
+    return self_or_ancestor(old.cell_id, cell);
   }
 
   std::array<double, 2 * dim>

@@ -173,6 +173,10 @@ namespace perideal
     /// The old owned point with key @p key, or unsigned(-1).
     unsigned int
     old_point(const Snapshot &old, const PointKey &key) const;
+    /// The points, bonds and parts made again (the families far from the
+    /// changes kept from @p old), then restore(@p old). Collective.
+    void
+    rebuild_and_restore(const Snapshot &old, const double time);
     /// Sets u and v of every owned point and FE DoF from @p old, then
     /// restore_bonds().
     void
