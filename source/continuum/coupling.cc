@@ -52,6 +52,16 @@ namespace perideal
       }
   }
 
+  std::vector<NodeRow>
+  Coupling::node_rows(const PointCloud &cloud) const
+  {
+    std::vector<NodeRow> rows;
+    for (const NodePoint &p : node_points)
+      for (unsigned int d = 0; d < dim; ++d)
+        rows.push_back({p.dof[d], dim * p.point + d, p.alpha, p.alpha * p.volume / cloud.volume[p.point]});
+    return rows;
+  }
+
   void
   Coupling::update_virtual_points(VectorType &displacement)
   {

@@ -168,7 +168,8 @@ namespace perideal
                       "force blending: each FE node's acceleration is alpha times the PD one at the node "
                       "plus 1 - alpha times the FE one, each PD point's is the PD one: no ghost force "
                       "under any affine field, but neither exact global balance nor energy conservation "
-                      "(measured in doc/coupling.md); explicit (Verlet) runs.");
+                      "(measured in doc/coupling.md). Implicit runs solve its nonsymmetric tangent with "
+                      "GMRES (whatever Solver/Implicit/Linear solver says).");
     prm.declare_entry("Blending width", "1", Patterns::Double(0),
                       "Width of the band inside continuum blocks, in horizons, over which the energy "
                       "passes from peridynamic to finite element (the PD weight falls linearly from 1 at "

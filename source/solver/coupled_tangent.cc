@@ -32,7 +32,8 @@ namespace perideal
   } // namespace
 
   void
-  CoupledTangent::reinit(const std::vector<unsigned int>                          &pd_free,
+  CoupledTangent::reinit(const std::vector<NodeRow>                              *node_rows,
+                         const std::vector<unsigned int>                          &pd_free,
                          const std::vector<unsigned int>                          &fe_free,
                          const std::vector<unsigned int>                          &virtual_points,
                          const PointInterpolation                                 &Pi,
@@ -96,6 +97,56 @@ namespace perideal
       multiply(K_FE, false, S, KS);
       multiply(S, true, KS, G);
     }
+    force_blending = node_rows != nullptr;
+    if (force_blending)
+      reinit_force_blending(*node_rows, pd_owned, first);
+  }
+
+  void
+  CoupledTangent::reinit_force_blending(const std::vector<NodeRow> &node_rows, const IndexSet &pd_owned,
+                                        const Index first)
+  {
+    // Per FE DoF (owned, local): its unknown after the PD ones, -1 if none.
+    unsigned int n_fe = 0;
+    for (const unsigned int k : fe_dofs)
+      n_fe = std::max(n_fe, k + 1);
+    for (const NodeRow &r : node_rows)
+      n_fe = std::max(n_fe, r.fe_dof + 1);
+    std::vector<int> unknown_of(n_fe, -1);
+    for (unsigned int j = 0; j < fe_dofs.size(); ++j)
+      unknown_of[fe_dofs[j]] = int(pd_dofs.size() + j);
+
+    // N: a free PD DoF's own row; an FE unknown's node point's row, weighted
+    // (a prescribed or hanging node is no unknown).
+    TrilinosWrappers::SparsityPattern pattern(owned, pd_owned, comm);
+    const auto add_entries = [&](const auto &add) {
+      for (unsigned int j = 0; j < pd_dofs.size(); ++j)
+        add(first + j, pd_owned.nth_index_in_set(pd_dofs[j]), 1.0);
+      for (const NodeRow &r : node_rows)
+        if (unknown_of[r.fe_dof] >= 0)
+          add(first + unknown_of[r.fe_dof], pd_owned.nth_index_in_set(r.pd_dof), r.weight);
+    };
+    add_entries([&](const Index row, const Index column, double) { pattern.add(row, column); });
+    pattern.compress();
+    N.reinit(pattern);
+    add_entries([&](const Index row, const Index column, const double w) { N.set(row, column, w); });
+    N.compress(VectorOperation::insert);
+
+    // D G: the FE stiffness's rows times 1 - alpha.
+    std::vector<double> scale(owned.n_elements(), 1.0);
+    for (const NodeRow &r : node_rows)
+      if (unknown_of[r.fe_dof] >= 0)
+        scale[unknown_of[r.fe_dof]] = 1 - r.alpha;
+    TrilinosWrappers::SparsityPattern diagonal(owned, owned, comm);
+    for (unsigned int j = 0; j < scale.size(); ++j)
+      diagonal.add(first + j, first + j);
+    diagonal.compress();
+    TrilinosWrappers::SparseMatrix D(diagonal), DG;
+    for (unsigned int j = 0; j < scale.size(); ++j)
+      D.set(first + j, first + j, scale[j]);
+    D.compress(VectorOperation::insert);
+    multiply(D, false, G, DG);
+    G.reinit(DG.trilinos_matrix(), true);
   }
 
   void
@@ -103,7 +154,10 @@ namespace perideal
   {
     TrilinosWrappers::SparseMatrix AT, P;
     multiply(A, false, T, AT);
-    multiply(T, true, AT, P);
+    if (force_blending)
+      multiply(N, false, AT, P);
+    else
+      multiply(T, true, AT, P);
     Epetra_CrsMatrix *sum   = nullptr;
     const int         error = EpetraExt::MatrixMatrix::Add(P.trilinos_matrix(), false, 1.0, G.trilinos_matrix(),
                                                      false, 1.0, sum);
@@ -147,6 +201,7 @@ namespace perideal
   CoupledTangent::memory_consumption() const
   {
     return matrix.memory_consumption() + T.memory_consumption() + S.memory_consumption() + G.memory_consumption() +
+           (force_blending ? N.memory_consumption() : 0) +
            (pd_dofs.capacity() + fe_dofs.capacity()) * sizeof(unsigned int);
   }
 } // namespace perideal

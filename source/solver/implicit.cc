@@ -28,7 +28,8 @@ namespace perideal
                       "until |R| decreases.");
     prm.declare_entry("Linear solver", "CG", Patterns::Selection("CG|GMRES"),
                       "Krylov solver for K du = R. K is symmetric for PMB and LPS: CG. GMRES for "
-                      "models whose tangent is not symmetric.");
+                      "models whose tangent is not symmetric. With Coupling/Scheme = force blending "
+                      "the coupled tangent is not symmetric and GMRES is used whatever this says.");
     prm.declare_entry("Preconditioner", "AMG", Patterns::Selection("AMG|Jacobi"),
                       "AMG: Trilinos ML smoothed aggregation with the six rigid-body modes as near "
                       "null space; Jacobi: the diagonal (for comparison).");

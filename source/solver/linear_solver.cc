@@ -25,11 +25,12 @@ namespace perideal
   namespace
   {
     /// An operator from a function, for deal.II's solvers.
+    template <typename Vector>
     struct FunctionOperator
     {
-      std::function<void(VectorType &, const VectorType &)> apply;
+      std::function<void(Vector &, const Vector &)> apply;
       void
-      vmult(VectorType &dst, const VectorType &src) const
+      vmult(Vector &dst, const Vector &src) const
       {
         apply(dst, src);
       }
@@ -86,26 +87,72 @@ namespace perideal
       jacobi_preconditioner ? *jacobi_preconditioner : static_cast<const TrilinosWrappers::PreconditionBase &>(*amg);
     try
       {
-        if (implicit.linear_solver == "CG")
+        if (residual_products())
+          SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(
+            FunctionOperator<TrilinosWrappers::MPI::Vector>{residual_operator(R, first)}, x, rhs, preconditioner);
+        else if (linear_solver == "CG")
           SolverCG<TrilinosWrappers::MPI::Vector>(control).solve(matrix, x, rhs, preconditioner);
         else
           SolverGMRES<TrilinosWrappers::MPI::Vector>(control).solve(matrix, x, rhs, preconditioner);
       }
     catch (const SolverControl::NoConvergence &e)
       {
+        restore_unknowns();
         AssertThrow(false,
-                    ExcMessage("the linear solver (" + implicit.linear_solver + ", " + implicit.preconditioner +
+                    ExcMessage("the linear solver (" + linear_solver + ", " + implicit.preconditioner +
                                ") did not converge in " + std::to_string(e.last_step) + " iterations (residual " +
                                sci(e.last_residual) + ", wanted " + sci(control.tolerance()) +
                                "): raise Solver/Implicit/Maximum linear iterations, or the tangent is "
                                "singular (a part of the body held by no condition, e.g. a fragment)"));
       }
+    restore_unknowns();
     if (!reuse)
       amg_iterations = control.last_step();
     rebuild_amg = reuse && control.last_step() > 2 * amg_iterations + 5;
     for (unsigned int k = 0; k < du.size(); ++k)
       du[k] = x[first + k];
     return control.last_step();
+  }
+
+  std::function<void(TrilinosWrappers::MPI::Vector &, const TrilinosWrappers::MPI::Vector &)>
+  ImplicitSolver::residual_operator(const std::vector<double> &R, const types::global_dof_index first)
+  {
+    // K v = -(R(z + e v) - R(z))/e over the unknowns z (R: the residual at
+    // z, which restore_unknowns() puts back), e as Jacobian = Matrix free's.
+    const unsigned int n = R.size();
+    z_saved.resize(n);
+    double z_norm = 0;
+    for (unsigned int k = 0; k < n; ++k)
+      {
+        z_saved[k] = unknown(k);
+        z_norm += z_saved[k] * z_saved[k];
+      }
+    z_norm = std::sqrt(Utilities::MPI::sum(z_norm, comm));
+    return [this, &R, first, n, z_norm](TrilinosWrappers::MPI::Vector &dst, const TrilinosWrappers::MPI::Vector &src) {
+      const double v_norm = src.l2_norm();
+      if (v_norm == 0)
+        {
+          dst = 0;
+          return;
+        }
+      const double e = 1e-8 * (1 + z_norm) / v_norm;
+      for (unsigned int k = 0; k < n; ++k)
+        unknown(k) = z_saved[k] + e * src[first + k];
+      std::vector<double> R_plus(n);
+      double              forces = 0;
+      residual(R_plus, forces);
+      for (unsigned int k = 0; k < n; ++k)
+        dst[first + k] = -(R_plus[k] - R[k]) / e;
+      dst.compress(VectorOperation::insert);
+    };
+  }
+
+  void
+  ImplicitSolver::restore_unknowns()
+  {
+    for (unsigned int k = 0; k < z_saved.size(); ++k)
+      unknown(k) = z_saved[k];
+    z_saved.clear();
   }
 
   unsigned int
@@ -127,7 +174,7 @@ namespace perideal
 
     // K v = -dR/du v by a forward difference of the residual; identity rows
     // at the prescribed DoFs.
-    const FunctionOperator K{[&](VectorType &dst, const VectorType &src) {
+    const FunctionOperator<VectorType> K{[&](VectorType &dst, const VectorType &src) {
       const double v_norm = src.l2_norm();
       if (v_norm == 0)
         {
@@ -142,7 +189,7 @@ namespace perideal
       for (unsigned int k = 0; k < n; ++k)
         dst.local_element(k) = constrained_dofs[k] ? src.local_element(k) : -(R_plus[k] - R[k]) / e;
     }};
-    const FunctionOperator P{[&](VectorType &dst, const VectorType &src) {
+    const FunctionOperator<VectorType> P{[&](VectorType &dst, const VectorType &src) {
       for (unsigned int i = 0; i < n / dim; ++i)
         for (unsigned int r = 0; r < dim; ++r)
           {
@@ -188,11 +235,14 @@ namespace perideal
       return "matrix free (" + implicit.linear_solver + ", block Jacobi from the analytic diagonal; " + sci(bytes / 1048576.0, 4) + " MiB)";
     if (has_continuum)
       return std::string(use_finite_differences ? "by finite differences" : "analytic") + ", PD part " +
-             std::to_string(tangent->matrix.n_nonzero_elements()) + " nonzeros, coupled T^T A T + K_FE on " +
+             std::to_string(tangent->matrix.n_nonzero_elements()) + " nonzeros, coupled " +
+             (force_blending ? "N A T + D K_FE (force blending" +
+                                 std::string(residual_products() ? ", products from the residual" : "") + ") on " :
+                               "T^T A T + K_FE on ") +
              std::to_string(coupled_tangent->owned.size()) + " free DoFs (" +
              sci(Utilities::MPI::sum(double(coupled_tangent->memory_consumption()), comm) / 1048576.0 +
                    bytes / 1048576.0, 4) +
-             " MiB), " + implicit.linear_solver + " with " + implicit.preconditioner;
+             " MiB), " + linear_solver + " with " + implicit.preconditioner;
     return std::string(use_finite_differences ? "by finite differences" : "analytic") + ", " +
            std::to_string(tangent->matrix.n_nonzero_elements()) + " nonzeros (" + sci(bytes / 1048576.0, 4) +
            " MiB), " + implicit.linear_solver + " with " + implicit.preconditioner;

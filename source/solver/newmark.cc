@@ -216,7 +216,7 @@ namespace perideal
       finished_time  = t0 + n_steps * access->record.dt;
       const double seconds = loop_seconds();
       access->pcout << "\nNewmark: " << n_steps << " steps, " << total_newton << " Newton iterations, " << total_linear
-                    << " " << access->deck.solver.implicit.linear_solver << " iterations in " << sci(seconds, 4) << " s"
+                    << " " << (implicit_solver ? implicit_solver->krylov_solver() : access->deck.solver.implicit.linear_solver) << " iterations in " << sci(seconds, 4) << " s"
                     << std::endl;
       access->post.global_quantities(n_steps, t0 + n_steps * access->record.dt);
       access->post.print_summary(seconds, n_steps);

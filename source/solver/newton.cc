@@ -57,13 +57,10 @@ namespace perideal
     , state(access.state)
     , continuum(access.coupling ? &access.coupling->continuum : nullptr)
     , has_continuum(access.coupling != nullptr)
-  {
-    // Its tangent is not symmetric: CG and the coupled tangent's products
-    // (coupled_tangent.h) assume energy blending.
-    AssertThrow(!(has_continuum && access.discretization.force_blending),
-                ExcMessage("Coupling/Scheme = force blending: available with the explicit solver (Verlet) only; "
-                           "QuasiStatic and Newmark runs couple by energy blending (Scheme = energy blending)"));
-  }
+    , force_blending(has_continuum && access.discretization.force_blending)
+    // Force blending's tangent is not symmetric (coupled_tangent.h).
+    , linear_solver(force_blending ? std::string("GMRES") : implicit.linear_solver)
+  {}
 
   std::vector<std::pair<Point<3>, unsigned int>>
   ImplicitSolver::collect_unknowns()
@@ -440,7 +437,8 @@ namespace perideal
       if (has_continuum)
         {
           coupled_tangent = std::make_unique<CoupledTangent>();
-          coupled_tangent->reinit(pd_free, fe_free, access.coupling->virtual_points, continuum->interpolation(), tangent->owned,
+          const std::vector<NodeRow> node_rows = access.coupling->node_rows(cloud);
+          coupled_tangent->reinit(force_blending ? &node_rows : nullptr, pd_free, fe_free, access.coupling->virtual_points, continuum->interpolation(), tangent->owned,
                                   continuum->vector_partitioner(), continuum->stiffness(), comm);
           symmetry_reported = false;
         }
@@ -562,7 +560,12 @@ namespace perideal
           {
             pcout << "  coupled tangent: " << coupled_tangent->matrix.n_nonzero_elements()
                   << " nonzeros; symmetry defect |x.Ky - y.Kx| / (|x| |y| |K|) = "
-                  << sci(coupled_tangent->symmetry_defect(), 3) << std::endl;
+                  << sci(coupled_tangent->symmetry_defect(), 3)
+                  << (force_blending ? residual_products() ? " (force blending, GMRES on products from the residual, "
+                                                             "this matrix its AMG's)" :
+                                                           " (force blending, GMRES)" :
+                                       "")
+                  << std::endl;
             symmetry_reported = true;
           }
       }
@@ -667,7 +670,7 @@ namespace perideal
             result.newton_iterations = it;
             break;
           }
-        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << implicit.linear_solver << " "
+        pcout << "  Newton " << it << ": |R| = " << sci(r_new, 4) << " (" << linear_solver << " "
               << linear << " iterations" << (alpha < 1 ? ", step length " + sci(alpha, 3) : std::string())
               << (kept ? ", tangent kept" : "") << ")" << std::endl;
         keep_tangent = implicit.keep_tangent_contraction > 0 && alpha == 1 &&

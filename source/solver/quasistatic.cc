@@ -260,7 +260,7 @@ namespace perideal
       if (velocity_of_load_steps)
         access->record.last_kinetic_energy = 0;
       access->pcout << "\nQuasistatic: " << n_steps << " load steps, " << total_solves << " solves, " << total_newton
-                    << " Newton iterations, " << total_linear << " " << access->deck.solver.implicit.linear_solver
+                    << " Newton iterations, " << total_linear << " " << (implicit_solver ? implicit_solver->krylov_solver() : access->deck.solver.implicit.linear_solver)
                     << " iterations in " << sci(seconds, 4) << " s" << std::endl;
       post.print_summary(seconds, n_steps);
       hand_off();

@@ -12,6 +12,17 @@
 
 namespace perideal
 {
+  /// Force blending's residual at one FE DoF of a node (coupling.h): alpha
+  /// M/rho times the node point's PD force density plus 1 - alpha times the
+  /// FE force, i.e. @p weight = alpha M/(rho V_p) times the point's V f.
+  struct NodeRow
+  {
+    unsigned int fe_dof; // local (owned) FE DoF
+    unsigned int pd_dof; // the node point's local PD DoF, dim i + d
+    double       alpha;
+    double       weight;
+  };
+
   class Coupling
   {
   public:
@@ -31,6 +42,11 @@ namespace perideal
     /// node point plus 1 - alpha times the FE force (-K U), loads added.
     void
     transfer_forces(const PointCloud &cloud, const VectorType &force);
+
+    /// Force blending: per FE DoF of a node with a node point, its row
+    /// (NodeRow); empty with energy blending.
+    std::vector<NodeRow>
+    node_rows(const PointCloud &cloud) const;
 
     ContinuumField            continuum;
     std::vector<unsigned int> virtual_points; // owned virtual points (local index)

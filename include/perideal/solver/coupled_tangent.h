@@ -15,8 +15,19 @@
 // (EpetraExt's sparse products: the price of the coupling, see describe()).
 // Hanging-node DoFs are not unknowns: K_FE is condensed and Pi's rows hold
 // their masters; the caller distributes them after an update.
+//
+// Force blending (doc/coupling.md) has no energy: the PD points keep their
+// rows of A, and an FE node of weight alpha takes alpha (M/rho)/V_p times
+// its node point's row of A and 1 - alpha times K_FE's,
+//   K = N A T + D S^T K_FE S,
+// N picking those rows, D = diag(1 - alpha) on the FE unknowns. It is not
+// symmetric (GMRES). It is exact where a point's force depends only on its
+// own family (PMB, 1 hop); a node point is in no family, so A's rows of a
+// 2-hop material (LPS) miss its neighbors' dilatation terms there, and the
+// solver then takes K's products from the residual (implicit_solver.h).
 
 #include <perideal/base/input.h>
+#include <perideal/continuum/coupling.h>
 #include <perideal/continuum/point_interpolation.h>
 
 #include <deal.II/base/index_set.h>
@@ -34,9 +45,11 @@ namespace perideal
     /// @p pd_free: local PD DoFs (dim i + c, i an owned real point) that are
     /// unknowns; @p fe_free: local FE DoFs (owned, not hanging) that are
     /// unknowns; @p virtual_points: the owned virtual points in Pi's order;
-    /// @p pd_owned: the owned PD DoFs (global dim g + c). Collective.
+    /// @p pd_owned: the owned PD DoFs (global dim g + c); @p node_rows:
+    /// force blending's rows (nullptr: energy blending). Collective.
     void
-    reinit(const std::vector<unsigned int>                                  &pd_free,
+    reinit(const std::vector<NodeRow>                                      *node_rows,
+           const std::vector<unsigned int>                                  &pd_free,
            const std::vector<unsigned int>                                  &fe_free,
            const std::vector<unsigned int>                                  &virtual_points,
            const PointInterpolation                                         &Pi,
@@ -45,8 +58,9 @@ namespace perideal
            const dealii::TrilinosWrappers::SparseMatrix                     &K_FE,
            const MPI_Comm                                                    comm);
 
-    /// matrix = T^T A T + S^T K_FE S for the PD tangent @p A (rows and columns
-    /// of prescribed PD DoFs are not read). Collective.
+    /// matrix = T^T A T + S^T K_FE S (force blending: N A T + D S^T K_FE S)
+    /// for the PD tangent @p A (rows and columns of prescribed PD DoFs are
+    /// not read). Collective.
     void
     assemble(const dealii::TrilinosWrappers::SparseMatrix &A);
 
@@ -69,8 +83,16 @@ namespace perideal
     std::vector<unsigned int>              pd_dofs; // per PD unknown: its local PD DoF
     std::vector<unsigned int>              fe_dofs; // per FE unknown (after the PD ones): its local FE DoF
 
+    bool force_blending = false;
+
   private:
+    /// N and D G (above), after G; @p first: this rank's first unknown.
+    void
+    reinit_force_blending(const std::vector<NodeRow> &node_rows, const dealii::IndexSet &pd_owned,
+                          const dealii::types::global_dof_index first);
+
     MPI_Comm                               comm = MPI_COMM_SELF;
-    dealii::TrilinosWrappers::SparseMatrix T, S, G; // G = S^T K_FE S
+    dealii::TrilinosWrappers::SparseMatrix T, S, G; // G = S^T K_FE S (force blending: D S^T K_FE S)
+    dealii::TrilinosWrappers::SparseMatrix N;       // force blending only
   };
 } // namespace perideal

@@ -53,6 +53,12 @@ namespace perideal
     /// The tangent's kind and size, for the reports. Collective.
     std::string
     describe_tangent() const;
+    /// The Krylov solver of the linear solves (GMRES with force blending).
+    const std::string &
+    krylov_solver() const
+    {
+      return linear_solver;
+    }
 
     /// What the external work of an implicit step needs from its start: the
     /// supports' forces, the displacements and the loads.
@@ -135,6 +141,13 @@ namespace perideal
     /// Solves K du = R; returns the Krylov iterations.
     unsigned int
     solve_linear(const std::vector<double> &R, std::vector<double> &du);
+    /// residual_products(): K's product from the residual at the unknowns
+    /// (saved; restore_unknowns() puts them back), @p R the residual there,
+    /// @p first the first unknown of this rank.
+    std::function<void(dealii::TrilinosWrappers::MPI::Vector &, const dealii::TrilinosWrappers::MPI::Vector &)>
+    residual_operator(const std::vector<double> &R, const dealii::types::global_dof_index first);
+    void
+    restore_unknowns();
     /// The same without a matrix (Jacobian = Matrix free).
     unsigned int
     solve_matrix_free(const std::vector<double> &R, std::vector<double> &du);
@@ -148,6 +161,18 @@ namespace perideal
     MechanicalState           &state;
     ContinuumField            *continuum; // nullptr without continuum blocks
     bool                       has_continuum;
+    bool                       force_blending; // Coupling/Scheme = force blending
+    std::string                linear_solver;  // Solver/Implicit/Linear solver; GMRES with force blending
+
+    /// Force blending with a material whose tangent couples over 2 bonds:
+    /// the assembled tangent misses terms at the node points
+    /// (coupled_tangent.h), so GMRES takes K v from the residual,
+    /// -(R(z + e v) - R(z))/e, and the matrix serves its preconditioner.
+    bool
+    residual_products() const
+    {
+      return force_blending && tangent && tangent->hops == 2;
+    }
 
     std::unique_ptr<Tangent>        tangent;
     std::unique_ptr<CoupledTangent> coupled_tangent; // with continuum blocks
@@ -173,6 +198,7 @@ namespace perideal
     unsigned int                    amg_iterations         = 0; // Krylov iterations with a fresh hierarchy
     bool                            use_finite_differences = false;
     double                          fd_step                = 0;
+    std::vector<double>             z_saved; // residual_operator(): the unknowns it perturbs
   };
 
   /// QuasiStatic and Newmark: an integrator that solves each step with an ImplicitSolver.
