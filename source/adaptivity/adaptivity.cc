@@ -651,6 +651,7 @@ namespace perideal
                                          });
     finish_moved(moved);
     set_converted_after_rebalance(converted_ids);
+    add_ghost_fe_cells(moved);
 
     // The points, bonds and parts of the new partition, the state from what moved.
     rebuild_and_restore(moved, time);
@@ -796,6 +797,37 @@ namespace perideal
   }
 
   void
+  Adaptivity::add_ghost_fe_cells(Snapshot &moved) const
+  {
+    // Per FE cell: its active FE index, then u and v.
+    std::vector<std::pair<CellId, std::vector<double>>> ghosts;
+    GridTools::exchange_cell_data_to_ghosts<std::vector<double>, Triangulation<dim>>(
+      discretization.triangulation,
+      [&](const Triangulation<dim>::active_cell_iterator &cell) -> std_cxx17::optional<std::vector<double>> {
+        const auto it = std::lower_bound(moved.cell_id.begin(), moved.cell_id.end(), cell->id());
+        if (it == moved.cell_id.end() || *it != cell->id())
+          return {};
+        const std::size_t   k = it - moved.cell_id.begin();
+        std::vector<double> data(1, moved.cell_fe[k]);
+        data.insert(data.end(), moved.cell_u[k].begin(), moved.cell_u[k].end());
+        data.insert(data.end(), moved.cell_v[k].begin(), moved.cell_v[k].end());
+        return data;
+      },
+      [&](const Triangulation<dim>::active_cell_iterator &cell, const std::vector<double> &data) {
+        ghosts.emplace_back(cell->id(), data);
+      });
+    for (auto &[id, data] : ghosts)
+      {
+        const std::size_t n = (data.size() - 1) / 2;
+        moved.cell_id.push_back(id);
+        moved.cell_fe.push_back(static_cast<unsigned int>(data[0]));
+        moved.cell_u.emplace_back(data.begin() + 1, data.begin() + 1 + n);
+        moved.cell_v.emplace_back(data.begin() + 1 + n, data.end());
+      }
+    finish_moved(moved); // CellId order again
+  }
+
+  void
   Adaptivity::rebuild_and_restore(const Snapshot &old, const double time)
   {
     const PreviousFamilies families  = families_to_keep(old);
@@ -891,13 +923,15 @@ namespace perideal
     old.broken = model.broken;
     old.damage = model.damage;
     old.history = model.field_store().history(n, bonds.n_bonds());
-    // The FE field cell by cell, with the element it had, in CellId order.
+    // The FE field cell by cell, with the element it had, in CellId order;
+    // the ghost cells too: an owned DoF may lie on ghost FE cells only
+    // (beside an owned PD cell), and restore_fe_field() reads them.
     ContinuumField &fe = coupling.continuum;
     fe.U.update_ghost_values();
     fe.V.update_ghost_values();
     std::vector<std::pair<CellId, CellIterator>> cells;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+      if (!cell->is_artificial() && cell->active_fe_index() > 0)
         cells.emplace_back(cell->id(), cell);
     std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
     for (const auto &[id, cell] : cells)
@@ -949,36 +983,49 @@ namespace perideal
     // The cells that stay FE from their own values; those a conversion
     // refined around the converted ones (p4est's 2:1 balance) from their
     // parent's field at their support points, which the nested Lagrange
-    // elements reproduce exactly.
-    ContinuumField &fe = coupling.continuum;
+    // elements reproduce exactly. Every owned DoF, also one that lies on
+    // ghost FE cells only (beside an owned PD cell: the DoF is this rank's).
+    // A DoF on several cells takes the value of the one of smallest CellId
+    // (the cells visited in decreasing order, the last write wins):
+    // interpolated values differ in round-off from cell to cell, and this
+    // choice does not depend on the partition.
+    ContinuumField                              &fe = coupling.continuum;
+    std::vector<std::pair<CellId, CellIterator>> cells;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
-        {
-          const auto [k, source] = old_fe_cell(old, cell);
-          AssertThrow(k != numbers::invalid_unsigned_int && old.cell_fe[k] == cell->active_fe_index(),
-                      ExcInternalError());
-          const FiniteElement<dim>            &element = cell->get_fe();
-          std::vector<types::global_dof_index> dofs(element.n_dofs_per_cell());
-          cell->get_dof_indices(dofs);
-          const bool same = source->level() == cell->level();
-          for (unsigned int j = 0; j < dofs.size(); ++j)
-            if (fe.U.in_local_range(dofs[j]))
-              {
-                if (same)
-                  {
-                    fe.U(dofs[j]) = old.cell_u[k][j];
-                    fe.V(dofs[j]) = old.cell_v[k][j];
-                    continue;
-                  }
-                const Point<dim> x =
-                  mapping.transform_unit_to_real_cell(cell, element.get_unit_support_points()[j]);
-                const auto         uv = interpolate(old, k, source, x, mapping);
-                const unsigned int d  = element.system_to_component_index(j).first;
-                fe.U(dofs[j])         = uv[d];
-                fe.V(dofs[j])         = uv[dim + d];
-              }
-        }
+      if (!cell->is_artificial() && cell->active_fe_index() > 0)
+        cells.emplace_back(cell->id(), cell);
+    std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return b.first < a.first; });
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &[id, cell] : cells)
+      {
+        const auto [k, source] = old_fe_cell(old, cell);
+        if (k == numbers::invalid_unsigned_int && !cell->is_locally_owned())
+          continue; // a ghost cell new to this rank: its owned DoFs lie on owned cells too
+        AssertThrow(k != numbers::invalid_unsigned_int && old.cell_fe[k] == cell->active_fe_index(),
+                    ExcInternalError());
+        const FiniteElement<dim> &element = cell->get_fe();
+        dofs.resize(element.n_dofs_per_cell());
+        cell->get_dof_indices(dofs);
+        const bool same = source->level() == cell->level();
+        for (unsigned int j = 0; j < dofs.size(); ++j)
+          if (fe.U.in_local_range(dofs[j]))
+            {
+              if (same)
+                {
+                  fe.U(dofs[j]) = old.cell_u[k][j];
+                  fe.V(dofs[j]) = old.cell_v[k][j];
+                  continue;
+                }
+              const Point<dim> x =
+                mapping.transform_unit_to_real_cell(cell, element.get_unit_support_points()[j]);
+              const auto         uv = interpolate(old, k, source, x, mapping);
+              const unsigned int d  = element.system_to_component_index(j).first;
+              fe.U(dofs[j])         = uv[d];
+              fe.V(dofs[j])         = uv[dim + d];
+            }
+      }
   }
+
 
   void
   Adaptivity::restore(const Snapshot &old)

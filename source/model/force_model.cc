@@ -62,7 +62,7 @@ namespace perideal
                              "temperature)");
     }
 
-    /// Cells (points of a Text file cloud) that no block claims are left out
+    /// Cells (or points of a Text file cloud) that no block claims are left out
     /// of the body: legal (a mesh may hold parts not simulated), but said,
     /// with their material ids and counts, lest half a cloud vanish unnoticed.
     void
@@ -98,7 +98,7 @@ namespace perideal
           total += counts[k++];
         }
       std::ostringstream message;
-      message << total << " of " << all << " cells (points of a Text file cloud) belong to no block and are left "
+      message << total << " of " << all << " cells (or points of a Text file cloud) belong to no block and are left "
               << "out of the body (" << text.str() << "): no Blocks/*/Material ids or Region holds them";
       warnings.push_back(message.str());
     }
@@ -332,7 +332,9 @@ namespace perideal
     stretch_limits = BondStretchLimits(blocks.size(), cloud, bonds, comm);
     set_stretch_limits();
     warn_thermal(blocks, temperature_function != nullptr, record.warnings);
-    warn_unclaimed_cells(discretization, comm, record.warnings);
+    if (!unclaimed_reported) // once: an adaptive rebuild's refinement changes the counts, not the fact
+      warn_unclaimed_cells(discretization, comm, record.warnings);
+    unclaimed_reported = true;
     if (temperature_function)
       {
         temperature_change.reinit(cloud.scalar_partitioner);

@@ -215,6 +215,11 @@ namespace perideal
     /// ghosts' from their owners. Collective.
     void
     set_converted_after_rebalance(std::vector<dealii::CellId> &owned_converted);
+    /// After a rebalance: the FE values of the ghost FE cells from their
+    /// owners into @p moved (restore_fe_field() needs them: an owned DoF
+    /// may lie on ghost FE cells only), in CellId order again.
+    void
+    add_ghost_fe_cells(Snapshot &moved) const;
     /// The bond damage and the models' history from @p old; @p point_map:
     /// per owned point its old index (or -1).
     void

@@ -262,6 +262,7 @@ namespace perideal
       return {broken.data(), damage.data()};
     }
     bool                        has_stage_fields = false;
+    bool                        unclaimed_reported = false; // warn_unclaimed_cells() said it at the set-up
     // released_energy()'s points per block and the default evaluation's
     // scratch force and energy density (kept: no allocation per step).
     std::vector<std::vector<unsigned int>> released_points;
