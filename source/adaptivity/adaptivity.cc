@@ -42,6 +42,7 @@ namespace perideal
     std::vector<std::size_t>   offsets;   // old bonds per old owned point (CSR)
     std::vector<PointKey>      neighbor;  // per old bond, each family sorted by it: the far end's key
     std::vector<std::size_t>   bond;      // the old bond index of each of them
+    std::vector<std::uint8_t>  complete;  // per old owned point: 0 if its family lists only the bonds with a state; empty: all complete
     std::vector<std::uint8_t>  broken;    // per old bond (empty without damage)
     std::vector<double>        damage;    // per old bond (empty without continuous damage)
     // Per owned FE cell, sorted by CellId (a conversion may refine cells,
@@ -612,7 +613,7 @@ namespace perideal
     const auto         start = std::chrono::steady_clock::now();
     // The state by identity, each owned cell's share of it packed for the
     // rank that owns the cell after p4est partitioned the mesh by the work.
-    Snapshot                               old = take_snapshot();
+    Snapshot                               old = take_snapshot(/*bonds_with_state_only=*/true);
     Snapshot                               moved;
     moved.history.point_width = old.history.point_width;
     moved.history.bond_width  = old.history.bond_width;
@@ -752,6 +753,7 @@ namespace perideal
   void
   Adaptivity::finish_moved(Snapshot &moved) const
   {
+    moved.complete.assign(moved.keys.size(), 0); // packed with the bonds with a state only
     moved.order.resize(moved.keys.size());
     for (unsigned int i = 0; i < moved.order.size(); ++i)
       moved.order[i] = i;
@@ -856,6 +858,7 @@ namespace perideal
     families.positions   = &old.position;
     families.alpha       = &old.alpha;
     families.block       = &old.block;
+    families.complete    = old.complete.empty() ? nullptr : &old.complete;
     families.extra_reach = discretization.cloud.max_cell_radius;
     return families;
   }
@@ -878,7 +881,7 @@ namespace perideal
 
 
   Adaptivity::Snapshot
-  Adaptivity::take_snapshot() const
+  Adaptivity::take_snapshot(const bool bonds_with_state_only) const
   {
     const PointCloud &cloud = discretization.cloud;
     const Bonds      &bonds = discretization.bonds;
@@ -899,33 +902,52 @@ namespace perideal
     old.block.assign(cloud.block.begin(), cloud.block.begin() + n);
     old.u.assign(state.displacement.begin(), state.displacement.begin() + dim * n);
     old.v.assign(state.velocity.begin(), state.velocity.begin() + dim * n);
+    old.broken  = model.broken;
+    old.damage  = model.damage;
+    old.history = model.field_store().history(n, bonds.n_bonds());
     // Each family sorted by the far end's key: a bond is found again by it.
-    old.offsets.assign(bonds.offsets.begin(), bonds.offsets.begin() + n + 1);
-    old.neighbor.resize(bonds.n_bonds());
-    old.bond.resize(bonds.n_bonds());
+    // Only its bonds with a state (a rebalance): the others are found again
+    // by the search and start intact, as they were.
+    const std::size_t width     = old.history.bond_width;
+    const auto        has_state = [&](const std::size_t b) {
+      if ((!old.broken.empty() && old.broken[b] != 0) || (!old.damage.empty() && old.damage[b] != 0))
+        return true;
+      for (std::size_t q = 0; q < width; ++q)
+        if (old.history.bonds[width * b + q] != 0)
+          return true;
+      return false;
+    };
+    old.offsets.assign(1, 0);
+    if (!bonds_with_state_only)
+      {
+        old.neighbor.reserve(bonds.n_bonds());
+        old.bond.reserve(bonds.n_bonds());
+      }
+    std::vector<std::pair<PointKey, std::size_t>> family;
     for (unsigned int i = 0; i < n; ++i)
       {
+        family.clear();
         for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-          {
-            old.neighbor[b] = cloud.key[bonds.neighbor[b]];
-            old.bond[b]     = b;
-          }
-        std::vector<std::pair<PointKey, std::size_t>> family;
-        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-          family.emplace_back(old.neighbor[b], b);
+          if (!bonds_with_state_only || has_state(b))
+            family.emplace_back(cloud.key[bonds.neighbor[b]], b);
         std::sort(family.begin(), family.end());
-        for (std::size_t k = 0; k < family.size(); ++k)
+        for (const auto &[key, b] : family)
           {
-            old.neighbor[bonds.offsets[i] + k] = family[k].first;
-            old.bond[bonds.offsets[i] + k]     = family[k].second;
+            old.neighbor.push_back(key);
+            old.bond.push_back(b);
           }
+        old.offsets.push_back(old.neighbor.size());
       }
-    old.broken = model.broken;
-    old.damage = model.damage;
-    old.history = model.field_store().history(n, bonds.n_bonds());
+    if (bonds_with_state_only)
+      old.complete.assign(n, 0);
     // The FE field cell by cell, with the element it had, in CellId order;
     // the ghost cells too: an owned DoF may lie on ghost FE cells only
-    // (beside an owned PD cell), and restore_fe_field() reads them.
+    // (beside an owned PD cell), and restore_fe_field() reads them. The
+    // hanging DoFs from their masters first: the time loop keeps U's so,
+    // not V's (they carry no mass), and a cell's values are copied or
+    // interpolated below.
+    state.distribute_displacement();
+    state.distribute_velocity();
     ContinuumField &fe = coupling.continuum;
     fe.U.update_ghost_values();
     fe.V.update_ghost_values();

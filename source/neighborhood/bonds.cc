@@ -58,7 +58,7 @@ namespace perideal
           if (p.distance(x) <= previous->radius)
             return false;
         const unsigned int old = find_by_key(*previous->keys, *previous->order, cloud.key[i]);
-        if (old == numbers::invalid_unsigned_int)
+        if (old == numbers::invalid_unsigned_int || (previous->complete != nullptr && !(*previous->complete)[old]))
           return false;
         const std::size_t begin = neighbor.size();
         for (std::size_t b = (*previous->offsets)[old]; b < (*previous->offsets)[old + 1]; ++b)

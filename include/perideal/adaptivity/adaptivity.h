@@ -168,8 +168,11 @@ namespace perideal
     /// far enough from every changed one to keep them.
     PreviousFamilies
     families_to_keep(const Snapshot &old) const;
+    /// The state now. @p bonds_with_state_only (a rebalance): each family
+    /// lists only its broken or damaged bonds and those with a history, to
+    /// move less; the families are then searched again.
     Snapshot
-    take_snapshot() const;
+    take_snapshot(const bool bonds_with_state_only = false) const;
     /// The old owned point with key @p key, or unsigned(-1).
     unsigned int
     old_point(const Snapshot &old, const PointKey &key) const;

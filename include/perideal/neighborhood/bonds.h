@@ -145,6 +145,7 @@ namespace perideal
     const std::vector<double>       *positions = nullptr; // dim per old owned point
     const std::vector<double>       *alpha     = nullptr; // the blending weight per old owned point
     const std::vector<unsigned int> *block     = nullptr; // per old owned point
+    const std::vector<std::uint8_t> *complete  = nullptr; // per old owned point, 0: its family is not all there (nullptr: all are)
     double                           extra_reach = 0;     // the earlier search's (none kept if it differs)
     // Filled by the Discretization from the new points: where points
     // appeared, vanished or changed (every rank's), and the search reach.
