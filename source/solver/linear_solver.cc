@@ -121,6 +121,7 @@ namespace perideal
     // z, which restore_unknowns() puts back), e as Jacobian = Matrix free's.
     const unsigned int n = R.size();
     z_saved.resize(n);
+    r_plus.resize(n);
     double z_norm = 0;
     for (unsigned int k = 0; k < n; ++k)
       {
@@ -138,11 +139,10 @@ namespace perideal
       const double e = 1e-8 * (1 + z_norm) / v_norm;
       for (unsigned int k = 0; k < n; ++k)
         unknown(k) = z_saved[k] + e * src[first + k];
-      std::vector<double> R_plus(n);
-      double              forces = 0;
-      residual(R_plus, forces);
+      double forces = 0;
+      residual(r_plus, forces);
       for (unsigned int k = 0; k < n; ++k)
-        dst[first + k] = -(R_plus[k] - R[k]) / e;
+        dst[first + k] = -(r_plus[k] - R[k]) / e;
       dst.compress(VectorOperation::insert);
     };
   }

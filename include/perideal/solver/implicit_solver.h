@@ -198,7 +198,7 @@ namespace perideal
     unsigned int                    amg_iterations         = 0; // Krylov iterations with a fresh hierarchy
     bool                            use_finite_differences = false;
     double                          fd_step                = 0;
-    std::vector<double>             z_saved; // residual_operator(): the unknowns it perturbs
+    std::vector<double>             z_saved, r_plus; // residual_operator(): the unknowns it perturbs, its residual
   };
 
   /// QuasiStatic and Newmark: an integrator that solves each step with an ImplicitSolver.
