@@ -25,7 +25,6 @@ import csv
 import glob
 import math
 import os
-import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -39,34 +38,10 @@ THRESHOLD = 0.3
 C_R = 0.9194 * math.sqrt(72e9 / (2 * 1.25 * 2440))
 
 
-def read_points(pvtu):
-    """(x, y, damage) of every PD point: the finest cells (the finite element
-    cells, coarser, are skipped); where the run writes the Block field
-    (adaptive.prm, whose fine strip starts as finite elements), the cells of
-    block 0, the peridynamic one, only."""
-    cells = pvtu_cells.read_cells(pvtu, "Damage")
-    h = min(c[4] for c in cells)
-    try:
-        blocks = [c[3] for c in pvtu_cells.read_cells(pvtu, "Block")]
-    except TypeError:  # no Block field
-        blocks = [0] * len(cells)
-    return [(c[0], c[1], c[3]) for c, b in zip(cells, blocks) if c[4] < 1.5 * h and b == 0]
 
 
-def field_steps(run):
-    return sorted(glob.glob(os.path.join(run, "branching_*.pvtu")), key=lambda f: int(re.findall(r"_(\d+)\.pvtu", f)[0]))
 
 
-def top_view(points):
-    """{(i, j): largest damage} on the grid of spacing h, and h."""
-    ys = sorted({round(p[1] * 1e7) for p in points})
-    h = min(b - a for a, b in zip(ys, ys[1:])) * 1e-7
-    # Where the plate is not peridynamic, the picture stays empty (nan).
-    image = {}
-    for x, y, d in points:
-        key = (int(x / h), int((y + 0.02) / h))
-        image[key] = max(image.get(key, 0.0), d)
-    return image, h
 
 
 def strands(column, ny):
@@ -104,7 +79,7 @@ def branching(image, h):
 
 def measure(run):
     rows = list(csv.DictReader(open(os.path.join(run, "branching.globals.csv"))))
-    image, h = top_view(read_points(field_steps(run)[-1]))
+    image, h = pvtu_cells.top_view(pvtu_cells.read_points(pvtu_cells.field_steps(run, "branching")[-1]))
     x_branch, centres = branching(image, h)
     t = [float(r["time"]) * 1e6 for r in rows]
     tip = [float(r["tip"]) for r in rows]
@@ -127,13 +102,6 @@ def measure(run):
                 memory=pvtu_cells.log_value(log, "scene memory").split(" over")[0])
 
 
-def draw_top_view(ax, image, h):
-    nx, ny = round(0.1 / h), round(0.04 / h)
-    grid = [[float("nan")] * nx for _ in range(ny)]
-    for (i, j), d in image.items():
-        if 0 <= i < nx and 0 <= j < ny:
-            grid[j][i] = d
-    ax.imshow(grid, origin="lower", extent=(0, 100, -20, 20), cmap="jet", vmin=0, vmax=1, interpolation="nearest")
 
 
 def picture(results, out):
@@ -156,7 +124,7 @@ def picture(results, out):
         scene, spacing = name.rsplit("-", 1)
         ax = axes[spacings.index(spacing), scenes.index(scene)]
         ax.set_visible(True)
-        draw_top_view(ax, r["image"], r["h"])
+        pvtu_cells.draw_top_view(ax, r["image"], r["h"])
         ax.plot([0, 50], [0, 0], "k-", lw=1.5)
         if r["x_branch"] == r["x_branch"]:
             ax.axvline(r["x_branch"] * 1e3, color="w", ls="--", lw=0.8)

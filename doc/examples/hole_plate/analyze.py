@@ -34,32 +34,10 @@ THRESHOLD = 0.3
 COLUMNS = (0.005, 0.02, 0.05, 0.07, 0.095)
 
 
-def read_points(pvtu):
-    """(x, y, damage) of every PD point: the finest cells; where the run
-    writes the Block field (adaptive.prm), the cells of block 0, the
-    peridynamic one, only."""
-    cells = pvtu_cells.read_cells(pvtu, "Damage")
-    h = min(c[4] for c in cells)
-    try:
-        blocks = [c[3] for c in pvtu_cells.read_cells(pvtu, "Block")]
-    except TypeError:  # no Block field
-        blocks = [0] * len(cells)
-    return [(c[0], c[1], c[3]) for c, b in zip(cells, blocks) if c[4] < 1.5 * h and b == 0]
 
 
-def field_steps(run):
-    return sorted(glob.glob(os.path.join(run, "hole_*.pvtu")), key=lambda f: int(re.findall(r"_(\d+)\.pvtu", f)[0]))
 
 
-def top_view(points):
-    """{(i, j): largest damage} on the grid of spacing h, and h."""
-    ys = sorted({round(p[1] * 1e7) for p in points})
-    h = min(b - a for a, b in zip(ys, ys[1:])) * 1e-7
-    image = {}
-    for x, y, d in points:
-        key = (int(x / h), int((y + 0.02) / h))
-        image[key] = max(image.get(key, 0.0), d)
-    return image, h
 
 
 def strand_centres(image, h, x):
@@ -83,7 +61,7 @@ def first_time(t, values, level):
 
 def measure(run):
     rows = list(csv.DictReader(open(os.path.join(run, "hole.globals.csv"))))
-    image, h = top_view(read_points(field_steps(run)[-1]))
+    image, h = pvtu_cells.top_view(pvtu_cells.read_points(pvtu_cells.field_steps(run, "hole")[-1]))
     t = [float(r["time"]) * 1e6 for r in rows]
     result = dict(image=image, h=h, t=t, paths={x: strand_centres(image, h, x) for x in COLUMNS})
     for side, edge in (("right", 0.1 - CENTRE[0]), ("left", CENTRE[0])):
@@ -102,13 +80,6 @@ def measure(run):
     return result
 
 
-def draw_top_view(ax, image, h):
-    nx, ny = round(0.1 / h), round(0.04 / h)
-    grid = [[float("nan")] * nx for _ in range(ny)]
-    for (i, j), d in image.items():
-        if 0 <= i < nx and 0 <= j < ny:
-            grid[j][i] = d
-    ax.imshow(grid, origin="lower", extent=(0, 100, -20, 20), cmap="jet", vmin=0, vmax=1, interpolation="nearest")
 
 
 def picture(results, out):
@@ -131,7 +102,7 @@ def picture(results, out):
         row = spacings.index(spacing)
         ax = axes[row, scenes.index(scene)]
         ax.set_visible(True)
-        draw_top_view(ax, r["image"], r["h"])
+        pvtu_cells.draw_top_view(ax, r["image"], r["h"])
         ax.add_patch(matplotlib.patches.Circle((CENTRE[0] * 1e3, CENTRE[1] * 1e3), RADIUS * 1e3, fill=False, lw=0.8))
         ax.set_xlim(0, 100)
         ax.set_ylim(-20, 20)
