@@ -128,7 +128,9 @@ namespace perideal
         // Compile-time variants keep the bond loop free of branches.
         with_flag(thermal(state), [&](auto heated) {
           constexpr bool T = decltype(heated)::value;
-          if (state.breaking)
+          if (state.breaking && state.breaking->by_block())
+            dispatch<BondDamage::breaking_by_block, T>(uniform, state, points, c_field);
+          else if (state.breaking)
             dispatch<BondDamage::breaking, T>(uniform, state, points, c_field);
           else if (state.damage)
             dispatch<BondDamage::continuous, T>(uniform, state, points, c_field);
@@ -141,6 +143,12 @@ namespace perideal
 
       bool
       fuses_stretch_criterion() const override
+      {
+        return true;
+      }
+
+      bool
+      fuses_limits_by_block() const override
       {
         return true;
       }
@@ -444,9 +452,12 @@ namespace perideal
         const std::size_t  *offsets  = state.bonds.offsets.data();
         const unsigned int *neighbor = state.bonds.neighbor.data();
         // Breaking writes bond damage; reading only needs the const view.
-        std::uint8_t       *broken = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
-        const std::uint8_t *damage = mode == BondDamage::breaking ? broken : state.broken;
-        const double        limit  = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
+        constexpr bool        by_block = mode == BondDamage::breaking_by_block;
+        constexpr bool        breaks   = mode == BondDamage::breaking || by_block;
+        std::uint8_t         *broken   = breaks ? state.breaking->broken : nullptr;
+        const std::uint8_t   *damage   = breaks ? broken : state.broken;
+        const double          limit    = breaks ? state.breaking->squared_limit : 0;
+        const double         *limit_at = by_block ? state.breaking->limit_at : nullptr;
         const double       *d      = state.damage; // continuous only
         const double       *c      = c_field.begin();
         const double        c_own  = micromodulus();
@@ -469,8 +480,8 @@ namespace perideal
                 const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
                 const double       r0sq = ex * ex + ey * ey + ez * ez;
                 const double       rsq  = dx * dx + dy * dy + dz * dz;
-                if (mode == BondDamage::breaking)
-                  newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
+                if (breaks)
+                  newly_broken += break_if_overstretched(rsq, r0sq, by_block ? limit_at[j] : limit, broken[b]);
                 const double r0     = std::sqrt(r0sq);
                 const double r      = std::sqrt(rsq);
                 const double s      = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
@@ -495,7 +506,7 @@ namespace perideal
             if (energy)
               state.energy[i] += w;
           }
-        if (mode == BondDamage::breaking)
+        if (breaks)
           state.breaking->newly_broken += newly_broken;
       }
     };

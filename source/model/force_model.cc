@@ -360,10 +360,28 @@ namespace perideal
           across[b] = blocks[b].damage->interface_critical_stretch(time);
         }
     stretch_limits.set(within, across);
+    fused.assign(blocks.size(), false);
+    limit_at.resize(blocks.size());
     for (unsigned int b = 0; b < blocks.size(); ++b)
-      fused_breaking[b] = {blocks[b].material->fuses_stretch_criterion() ? stretch_limits.common_limit(b) : 0.0,
-                           broken.data(),
-                           fused_breaking[b].newly_broken};
+      {
+        StretchBreaking &fuse    = fused_breaking[b];
+        const Material  &material = *blocks[b].material;
+        fuse.squared_limit       = stretch_limits.common_limit(b);
+        fuse.broken              = broken.data();
+        // A damage model of another kind runs its own pass (damage_pass()).
+        const bool by_stretch = !blocks[b].damage || blocks[b].damage->stretch_criterion();
+        const bool by_far_end = fuse.squared_limit == 0 && by_stretch && stretch_limits.may_break(b) &&
+                                material.fuses_limits_by_block();
+        limit_at[b].clear();
+        if (by_far_end)
+          {
+            const double *row = stretch_limits.limits_of(b);
+            for (const unsigned short block : cloud.block)
+              limit_at[b].push_back(row[block]);
+          }
+        fuse.limit_at = limit_at[b].data();
+        fused[b]      = material.fuses_stretch_criterion() && (fuse.squared_limit > 0 || by_far_end);
+      }
   }
 
   bool
@@ -404,7 +422,7 @@ namespace perideal
     // own pass first.
     const auto fused_state = [&](const unsigned int k) {
       ModelState s = block_state(state, k);
-      s.breaking   = breaking_allowed && fused_breaking[k].squared_limit > 0 ? &fused_breaking[k] : nullptr;
+      s.breaking   = breaking_allowed && fused[k] ? &fused_breaking[k] : nullptr;
       return s;
     };
     if (neglecting && breaking_allowed)
@@ -416,7 +434,7 @@ namespace perideal
       {
         TimerOutput::Scope t(timer, "damage");
         for (unsigned int k = 0; k < blocks.size(); ++k)
-          if (fused_breaking[k].squared_limit == 0)
+          if (!fused[k])
             damage_updates += damage_pass(blocks[k].damage.get(), stretch_limits, k, state, blocks[k].points, arrays());
       }
     {

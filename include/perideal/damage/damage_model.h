@@ -181,6 +181,14 @@ namespace perideal
       return common.empty() ? 0.0 : common[k];
     }
 
+    /// (1 + s_c)^2 of block @p k's bonds by the far end's block (+infinity:
+    /// never), n_blocks values.
+    const double *
+    limits_of(const unsigned int k) const
+    {
+      return pair.data() + k * n_blocks;
+    }
+
     /// True if some bond of block @p k's points may break.
     bool
     may_break(const unsigned int k) const

@@ -35,11 +35,24 @@ namespace perideal
   /// pass instead of a separate pass over all bonds (see Material::
   /// fuses_stretch_criterion()). Bond b of point i breaks for good when
   /// |y_j - y_i|^2 > squared_limit |xi|^2, before the material uses it.
+  /// Where the block's bonds do not share one limit (they reach blocks of
+  /// other critical stretches, e.g. a continuum block's virtual points beside
+  /// a PD block), the limit is by the far end: limit_at[j] (+infinity: never),
+  /// for a material that fuses_limits_by_block(). By point, not by block
+  /// number: one gather per bond, which the bond loop vectorizes.
   struct StretchBreaking
   {
-    double        squared_limit = 0; // (1 + s_c)^2
+    double        squared_limit = 0; // (1 + s_c)^2; 0: by the far end, limit_at
+    const double *limit_at      = nullptr;
     std::uint8_t *broken        = nullptr;
     std::size_t   newly_broken  = 0; // bonds this evaluation broke
+
+    /// True if the limit is by the far end's block.
+    bool
+    by_block() const
+    {
+      return squared_limit == 0;
+    }
   };
 
   /// The bond-break test of StretchBreaking for one bond, from its squared
@@ -159,6 +172,7 @@ namespace perideal
     none,
     read,
     breaking,
+    breaking_by_block, // breaking, at the far end's block's limit (StretchBreaking::by_block())
     continuous
   };
 
@@ -317,6 +331,15 @@ namespace perideal
     /// critical-stretch model's own pass over the bonds of this block.
     virtual bool
     fuses_stretch_criterion() const
+    {
+      return false;
+    }
+
+    /// True if the fused test also takes a limit by the far end's block
+    /// (StretchBreaking::by_block()), so the core skips the separate pass for
+    /// a block whose bonds break at different stretches too.
+    virtual bool
+    fuses_limits_by_block() const
     {
       return false;
     }

@@ -267,9 +267,12 @@ namespace perideal
     // scratch force and energy density (kept: no allocation per step).
     std::vector<std::vector<unsigned int>> released_points;
     std::vector<double>                    released_force, released_density;
-    // Per block: the critical stretch its material applies in its force loop
-    // (squared_limit 0: not fused, damage_pass() runs its own pass).
-    std::vector<StretchBreaking> fused_breaking;
+    // Per block: the critical stretch its material applies in its force loop,
+    // one for all its bonds or by the far end's block; fused[b] false:
+    // damage_pass() runs its own pass.
+    std::vector<StretchBreaking>     fused_breaking;
+    std::vector<bool>                fused;
+    std::vector<std::vector<double>> limit_at; // by block fusing by the far end: the limit by point
     /// Force blending: per block, the points whose force is read, when not
     /// all of them (a continuum block's node points; its virtual points'
     /// forces go nowhere). Empty: all of the block's points.
