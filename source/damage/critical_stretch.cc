@@ -12,7 +12,7 @@
 // A material that fuses the test into its first bond pass (PMB, LPS: see
 // Material::fuses_stretch_criterion()) applies exactly this test there, and
 // the core skips update() for its block: one pass over the bonds, not two.
-// PMB does so also where a block's bonds break at different limits (by the
+// PMB and LPS do so also where a block's bonds break at different limits (by the
 // far end's block, Material::fuses_limits_by_block()): a continuum block's
 // virtual points beside a PD block, or blocks of different s_c.
 

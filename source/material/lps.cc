@@ -223,7 +223,9 @@ namespace perideal
             with_flag(thermal(state), [&](auto heated) {
               constexpr bool W = decltype(weighted)::value, P = decltype(periodic)::value,
                              T = decltype(heated)::value;
-              if (state.breaking)
+              if (state.breaking && state.breaking->by_block())
+                dilatation<BondDamage::breaking_by_block, W, P, T>(state, points);
+              else if (state.breaking)
                 dilatation<BondDamage::breaking, W, P, T>(state, points);
               else if (state.damage)
                 dilatation<BondDamage::continuous, W, P, T>(state, points);
@@ -238,6 +240,12 @@ namespace perideal
 
       bool
       fuses_stretch_criterion() const override
+      {
+        return true;
+      }
+
+      bool
+      fuses_limits_by_block() const override
       {
         return true;
       }
@@ -510,9 +518,12 @@ namespace perideal
         const double       *u        = state.u;
         const std::size_t  *offsets  = state.bonds.offsets.data();
         const unsigned int *neighbor = state.bonds.neighbor.data();
-        std::uint8_t       *broken   = mode == BondDamage::breaking ? state.breaking->broken : nullptr;
-        const std::uint8_t *damage   = mode == BondDamage::breaking ? broken : state.broken;
-        const double        limit    = mode == BondDamage::breaking ? state.breaking->squared_limit : 0;
+        constexpr bool      by_block = mode == BondDamage::breaking_by_block;
+        constexpr bool      breaks   = mode == BondDamage::breaking || by_block;
+        std::uint8_t       *broken   = breaks ? state.breaking->broken : nullptr;
+        const std::uint8_t *damage   = breaks ? broken : state.broken;
+        const double        limit    = breaks ? state.breaking->squared_limit : 0;
+        const double       *limit_at = by_block ? state.breaking->limit_at : nullptr;
         const double       *d        = state.damage; // continuous only
         const double       *w_bond   = omega.data();
         const double       *m        = state.fields.get("weighted_volume").begin();
@@ -534,8 +545,8 @@ namespace perideal
                 const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
                 const double       r0sq = ex * ex + ey * ey + ez * ez;
                 const double       rsq  = dx * dx + dy * dy + dz * dz;
-                if (mode == BondDamage::breaking)
-                  newly_broken += break_if_overstretched(rsq, r0sq, limit, broken[b]);
+                if (breaks)
+                  newly_broken += break_if_overstretched(rsq, r0sq, by_block ? limit_at[j] : limit, broken[b]);
                 const double r0 = std::sqrt(r0sq);
                 const double r  = std::sqrt(rsq);
                 double       w  = weighted ? w_bond[b] : omega0;
@@ -549,7 +560,7 @@ namespace perideal
             theta[i] = m[i] > 0 ? 3 * sum / m[i] : 0.0;
             alpha[i] = gamma[i] * theta[i];
           }
-        if (mode == BondDamage::breaking)
+        if (breaks)
           state.breaking->newly_broken += newly_broken;
       }
 
