@@ -638,9 +638,9 @@ namespace perideal
         AssertThrow(!deck.contact.active(),
                     ExcMessage("Adaptivity/Convertible blocks: not available with Contact yet (the contact "
                                "search is not rebuilt after a conversion)"));
-        AssertThrow(!deck.output.hdf5 && !deck.output.exodus,
-                    ExcMessage("Adaptivity/Convertible blocks: Output/Field format must be vtu, whose files "
-                               "each hold their own points (hdf5 and exodus write the mesh once)"));
+        AssertThrow(!deck.output.exodus,
+                    ExcMessage("Adaptivity/Convertible blocks: Output/Field format must be vtu or hdf5, whose "
+                               "files follow the changing cells (exodus writes the mesh once)"));
       }
     AssertThrow(!deck.output.wants("Temperature") || !deck.temperature.function.empty(),
                 ExcMessage("Output/Variables: Temperature needs a temperature field: set Temperature/Function"));
