@@ -635,9 +635,6 @@ namespace perideal
     if (deck.adaptivity.active())
       {
         // What a conversion does not carry over yet (doc/adaptivity.md).
-        AssertThrow(!deck.contact.active(),
-                    ExcMessage("Adaptivity/Convertible blocks: not available with Contact yet (the contact "
-                               "search is not rebuilt after a conversion)"));
         AssertThrow(!deck.output.exodus,
                     ExcMessage("Adaptivity/Convertible blocks: Output/Field format must be vtu or hdf5, whose "
                                "files follow the changing cells (exodus writes the mesh once)"));

@@ -71,11 +71,8 @@ namespace perideal
     if (deck.contact.active())
       {
         TimerOutput::Scope t(timer, "setup: contact");
-        contact = std::make_unique<Contact>(deck.contact, model->blocks, discretization->cloud,
-                                            discretization->bonds, comm, timer);
-        contact->setup(state.mass_density, discretization->point_spacing());
+        setup_contact();
         record.warnings.insert(record.warnings.end(), contact->setup_warnings.begin(), contact->setup_warnings.end());
-        model->attach_contact(contact.get());
       }
 
     record.dt_stable = model->stable_time_step();
@@ -129,6 +126,11 @@ namespace perideal
       connect_conditions();
       conditions->evaluate_loads(time);
     }
+    if (contact)
+      {
+        TimerOutput::Scope t(timer, "rebuild: contact");
+        setup_contact();
+      }
     {
       TimerOutput::Scope t(timer, "rebuild: stable step");
       record.dt_stable = model->stable_time_step();
@@ -139,6 +141,17 @@ namespace perideal
     for (const auto &w : found)
       if (std::find(record.warnings.begin(), record.warnings.end(), w) == record.warnings.end())
         record.warnings.push_back(w);
+  }
+
+  void
+  Simulation::setup_contact()
+  {
+    const unsigned int builds = contact ? contact->builds : 0;
+    contact = std::make_unique<Contact>(deck.contact, model->blocks, discretization->cloud, discretization->bonds,
+                                        comm, timer);
+    contact->setup(state.mass_density, discretization->point_spacing());
+    contact->builds = builds;
+    model->attach_contact(contact.get());
   }
 
   void

@@ -425,9 +425,9 @@ namespace perideal
             conditions.bad_condition = conditions.conditions.size(); // reported below by a collective search
       // The last entry: ranks that have received SIGTERM or SIGINT (the step
       // is finished, written if an output step, then the run stops).
-      const Contact *contact = model.contact_forces();
+      const double friction_power = model.contact_forces() ? model.contact_forces()->friction_power : 0.0;
       double sums[6] = {ke, work, double(conditions.bad_condition), double(model.damage_updates - damage_so_far),
-                        local_interrupt_signal() != 0 ? 1.0 : 0.0, contact ? contact->friction_power : 0.0};
+                        local_interrupt_signal() != 0 ? 1.0 : 0.0, friction_power};
       {
         TimerOutput::Scope t(timer, "global sums");
         Utilities::MPI::sum(ArrayView<const double>(sums, 6), comm, ArrayView<double>(sums, 6));
@@ -470,6 +470,8 @@ namespace perideal
                                     "): it outruns its neighbours' forces and the run gains energy; lower "
                                     "Solver/Verlet/Fixed dt, or set it to 0 for the automatic step");
         }
+      // Asked now: a conversion above makes the contact search anew.
+      const Contact *contact = model.contact_forces();
       if (contact && !contact_warned && contact->largest_step_fraction > 0.5)
         {
           contact_warned = true;

@@ -60,6 +60,11 @@ namespace perideal
     /// and DoFs are numbered, at the set-up and at every rebuild.
     void
     connect_conditions();
+    /// The contact search of the current points (Contact's per-point data is
+    /// a copy): at the set-up and at every rebuild; the count of list builds
+    /// goes on. Collective.
+    void
+    setup_contact();
     /// Makes Solver stages' @p k-th solver the running one, from time @p start.
     void
     start_stage(const unsigned int k, const double start);
