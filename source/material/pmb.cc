@@ -452,12 +452,8 @@ namespace perideal
         const std::size_t  *offsets  = state.bonds.offsets.data();
         const unsigned int *neighbor = state.bonds.neighbor.data();
         // Breaking writes bond damage; reading only needs the const view.
-        constexpr bool        by_block = mode == BondDamage::breaking_by_block;
-        constexpr bool        breaks   = mode == BondDamage::breaking || by_block;
-        std::uint8_t         *broken   = breaks ? state.breaking->broken : nullptr;
-        const std::uint8_t   *damage   = breaks ? broken : state.broken;
-        const double          limit    = breaks ? state.breaking->squared_limit : 0;
-        const double         *limit_at = by_block ? state.breaking->limit_at : nullptr;
+        constexpr bool by_block = mode == BondDamage::breaking_by_block;
+        const auto [broken, damage, limit, limit_at] = bond_damage_view<mode>(state);
         const double       *d      = state.damage; // continuous only
         const double       *c      = c_field.begin();
         const double        c_own  = micromodulus();
@@ -480,7 +476,7 @@ namespace perideal
                 const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
                 const double       r0sq = ex * ex + ey * ey + ez * ez;
                 const double       rsq  = dx * dx + dy * dy + dz * dz;
-                if (breaks)
+                if (breaks(mode))
                   newly_broken += break_if_overstretched(rsq, r0sq, by_block ? limit_at[j] : limit, broken[b]);
                 const double r0     = std::sqrt(r0sq);
                 const double r      = std::sqrt(rsq);
@@ -506,7 +502,7 @@ namespace perideal
             if (energy)
               state.energy[i] += w;
           }
-        if (breaks)
+        if (breaks(mode))
           state.breaking->newly_broken += newly_broken;
       }
     };

@@ -211,6 +211,34 @@ namespace perideal
     const double *thermal_strain = nullptr;
   };
 
+  /// A bond loop's view of the bond damage for variant @p mode: the flags it
+  /// writes (breaking) or reads, and the limit of bond b to point j,
+  /// limit_of<mode>(j) (StretchBreaking). Taken into locals before the loop.
+  struct BondDamageView
+  {
+    std::uint8_t       *broken   = nullptr; // written by a breaking variant
+    const std::uint8_t *damage   = nullptr; // the flags read for 1 - d
+    double              limit    = 0;
+    const double       *limit_at = nullptr;
+  };
+
+  constexpr bool
+  breaks(const BondDamage mode)
+  {
+    return mode == BondDamage::breaking || mode == BondDamage::breaking_by_block;
+  }
+
+  template <BondDamage mode>
+  BondDamageView
+  bond_damage_view(const ModelState &state)
+  {
+    if constexpr (breaks(mode))
+      return {state.breaking->broken, state.breaking->broken, state.breaking->squared_limit,
+              mode == BondDamage::breaking_by_block ? state.breaking->limit_at : nullptr};
+    else
+      return {nullptr, state.broken, 0.0, nullptr};
+  }
+
   class Material
   {
   public:
