@@ -212,8 +212,9 @@ namespace perideal
   };
 
   /// A bond loop's view of the bond damage for variant @p mode: the flags it
-  /// writes (breaking) or reads, and the limit of bond b to point j,
-  /// limit_of<mode>(j) (StretchBreaking). Taken into locals before the loop.
+  /// writes (breaking) or reads, and the limit of a bond to point j: limit,
+  /// or limit_at[j] for breaking_by_block (StretchBreaking). Taken into
+  /// locals before the loop.
   struct BondDamageView
   {
     std::uint8_t       *broken   = nullptr; // written by a breaking variant
