@@ -270,36 +270,6 @@ namespace perideal
   }
 
   void
-  Adaptivity::check_conditions(const std::vector<BoundaryCondition> &conditions) const
-  {
-    for (const auto &bc : conditions)
-      {
-        if (bc.type != BoundaryCondition::Type::traction)
-          continue;
-        unsigned int on_convertible = 0, block = 0;
-        for (const auto &[cell, face] : bc.faces)
-          {
-            const int b = discretization.block_of_cell(cell);
-            if (b >= 0 && std::find(parameters.convertible.begin(), parameters.convertible.end(), unsigned(b)) !=
-                            parameters.convertible.end())
-              {
-                ++on_convertible;
-                block = b;
-              }
-          }
-        const unsigned int n = Utilities::MPI::sum(on_convertible, comm);
-        block                = Utilities::MPI::max(on_convertible > 0 ? block : 0u, comm);
-        AssertThrow(n == 0,
-                    ExcMessage("Boundary conditions/" + bc.name + ": a Traction on " + std::to_string(n) +
-                               " faces of cells of the convertible block '" + discretization.blocks[block].name +
-                               "' (Adaptivity/Convertible blocks): a converted cell has no finite-element face to "
-                               "carry it, so the load would vanish with the conversion. Put the loaded cells in "
-                               "a continuum block that does not convert (as doc/examples/hole_plate/adaptive.prm "
-                               "does), or load with a Body force"));
-      }
-  }
-
-  void
   Adaptivity::use_integrator(const bool explicit_steps, const bool with_inertia)
   {
     interval = parameters.check_interval > 0 ? parameters.check_interval : explicit_steps ? 10 : 1;

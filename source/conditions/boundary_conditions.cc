@@ -16,9 +16,12 @@ namespace perideal
                       "Prescribed displacement/velocity: imposed on the component at "
                       "every step (Dirichlet). Body force: force per unit volume added "
                       "to the component. Traction: force per unit area on the boundary "
-                      "faces of continuum blocks whose centre lies in Region (or, with "
-                      "Boundary id, that carry this id), evaluated at the face centre; "
-                      "peridynamic blocks take loads as body forces.");
+                      "faces whose centre lies in Region (or, with Boundary id, that "
+                      "carry this id), evaluated at the face centre: on a continuum "
+                      "cell's face integrated against its shape functions, on a "
+                      "peridynamic cell's face the force traction x face area on the "
+                      "cell's point (a body force over its volume), so the load stays "
+                      "when Adaptivity converts the cell.");
     prm.declare_entry("Region", "All", Patterns::Anything(),
                       "The name of a region of Discretization/Regions, or All.");
     prm.declare_entry("Boundary id", "-1", Patterns::Integer(-1),

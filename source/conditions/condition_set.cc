@@ -37,20 +37,7 @@ namespace perideal
         bc.faces.clear();
         if (bc.type == BoundaryCondition::Type::traction)
           {
-            AssertThrow(continuum != nullptr,
-                        ExcMessage("Boundary conditions/" + bc.name + "/Type: a Traction acts on the boundary faces "
-                                   "of continuum blocks, and this scene has none; load peridynamic blocks with "
-                                   "a Body force"));
-            bc.dofs.clear();
-            for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-              if (cell->is_locally_owned() && cell->active_fe_index() > 0)
-                for (const unsigned int f : cell->face_indices())
-                  if (cell->face(f)->at_boundary() &&
-                      (bc.boundary_id >= 0 ? cell->face(f)->boundary_id() == types::boundary_id(bc.boundary_id) :
-                                             discretization.in_region(bc.region, cell->face(f)->center(), cell)))
-                    bc.faces.emplace_back(cell, f);
-            if (Utilities::MPI::sum(bc.faces.size(), comm) == 0)
-              record.warnings.push_back("traction '" + bc.name + "' acts on no boundary face of a continuum block");
+            find_traction_faces(bc);
             continue;
           }
         bc.dofs.clear();
@@ -65,6 +52,35 @@ namespace perideal
           record.warnings.push_back("boundary condition '" + bc.name + "' acts on no point (region '" +
                              bc.region + "' is empty)");
       }
+  }
+
+  void
+  ConditionSet::find_traction_faces(BoundaryCondition &bc) const
+  {
+    const auto selected = [&](const CellIterator &cell, const unsigned int f) {
+      return cell->face(f)->at_boundary() &&
+             (bc.boundary_id >= 0 ? cell->face(f)->boundary_id() == types::boundary_id(bc.boundary_id) :
+                                    discretization.in_region(bc.region, cell->face(f)->center(), cell));
+    };
+    // An FE cell's faces take the traction through its shape functions.
+    bc.dofs.clear();
+    if (continuum != nullptr)
+      for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+          for (const unsigned int f : cell->face_indices())
+            if (selected(cell, f))
+              bc.faces.emplace_back(cell, f);
+    // A PD cell's faces load its point with traction x area, the force the
+    // FE face carried: a cell that converts keeps its load.
+    bc.point_faces.clear();
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!discretization.is_virtual(i) && !cloud.is_extra(i) && cloud.cell[i]->active_fe_index() == 0)
+        for (const unsigned int f : cloud.cell[i]->face_indices())
+          if (selected(cloud.cell[i], f))
+            bc.point_faces.push_back({i, cloud.cell[i]->face(f)->measure(), cloud.cell[i]->face(f)->center()});
+    bc.on_points = Utilities::MPI::logical_or(!bc.point_faces.empty(), comm);
+    if (Utilities::MPI::sum(bc.faces.size() + bc.point_faces.size(), comm) == 0)
+      record.warnings.push_back("traction '" + bc.name + "' acts on no boundary face");
   }
 
   void
@@ -116,7 +132,7 @@ namespace perideal
     for (const auto &bc : conditions)
       if (bc.is_load())
         {
-          if (bc.type == BoundaryCondition::Type::body_force)
+          if (bc.type == BoundaryCondition::Type::body_force || bc.on_points)
             body_force.resize(state.point_entries(), 0.0);
           loads_depend_on_time |= bc.value->depends_on_time();
           if (continuum && continuum->load.size() == 0)
@@ -181,8 +197,14 @@ namespace perideal
       continuum->load = 0;
     for (const auto &bc : conditions)
       if (bc.type == BoundaryCondition::Type::traction)
-        continuum->add_face_load(bc.faces, bc.component,
-                                 [&](const Point<dim> &x) { return bc.value->value(x, time, 0); });
+        {
+          if (continuum)
+            continuum->add_face_load(bc.faces, bc.component,
+                                     [&](const Point<dim> &x) { return bc.value->value(x, time, 0); });
+          for (const auto &face : bc.point_faces)
+            body_force[dim * face.point + bc.component] +=
+              bc.value->value(face.center, time, 0) * face.area / cloud.volume[face.point];
+        }
       else if (bc.type == BoundaryCondition::Type::body_force)
         for (const unsigned int k : bc.dofs)
           {

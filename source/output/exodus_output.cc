@@ -170,7 +170,7 @@ namespace perideal
       std::vector<std::vector<DoFHandler<3>::active_cell_iterator>> element_cells;           // by block
       std::vector<std::vector<std::int64_t>>                         connectivity;            // by block, local nodes from 0
       std::vector<std::vector<std::int64_t>>                         element_id;              // by block
-      std::vector<unsigned int>                                      signature; // the cells, by active cell index
+      std::vector<unsigned int>                                      signature; // (block, active cell index) of each element
     };
 
     LocalMesh
@@ -199,7 +199,7 @@ namespace perideal
           local.element_cells[b].push_back(mesh.point_cells[k]);
           local.connectivity[b].push_back(node);
           local.element_id[b].push_back(mesh.point_id[k]);
-          local.signature.push_back(mesh.point_cells[k]->active_cell_index());
+          local.signature.insert(local.signature.end(), {b, mesh.point_cells[k]->active_cell_index()});
         }
       std::map<unsigned int, unsigned int> node_of_vertex;
       for (std::size_t k = 0; k < mesh.fe_cells.size(); ++k)
@@ -221,7 +221,7 @@ namespace perideal
             }
           local.element_cells[b].push_back(cell);
           local.element_id[b].push_back(mesh.point_ids_end + cell->global_active_cell_index() + 1);
-          local.signature.push_back(cell->active_cell_index());
+          local.signature.insert(local.signature.end(), {b, cell->active_cell_index()});
         }
       return local;
     }
@@ -309,7 +309,9 @@ namespace perideal
           global_values.push_back(value);
         }
 
-    // A new file at the first output step and when the written mesh changes.
+    // A new file at the first output step and when the written mesh changes
+    // (a conversion or rebalance of Adaptivity): <base name>.e-s0002, ...,
+    // each a mesh of its own, as SEACAS names a series whose mesh changes.
     const bool new_file =
       exodus_files == 0 || Utilities::MPI::logical_or(local.signature != exodus_cells, comm);
     if (new_file)

@@ -128,6 +128,7 @@ namespace perideal
     coupling      = coupling_;
     continuum     = coupling ? &coupling->continuum : nullptr;
     has_continuum = coupling != nullptr;
+    const bool rebuild = setups++ > 0;
     for (auto &compute : computes)
       {
         compute.points.clear();
@@ -143,13 +144,22 @@ namespace perideal
                 compute.nodes.push_back(k);
             }
         // Over nothing, a Minimum is +1.8e308, a Mean 0: numbers that look
-        // like results. A compute over an empty region is a mistake.
+        // like results. A compute over an empty region is a mistake; after a
+        // conversion, one the set-up could not see: a region that held only
+        // FE nodes (a face) of cells that turned peridynamic, whose points
+        // sit at the cells' centres.
+        const std::string what = "' holds no point" + std::string(has_continuum ? " or FE node" : "") +
+                                 " of the body, so '" + compute.operation + "' of " + compute.variable +
+                                 " over it has no value: ";
         AssertThrow(Utilities::MPI::sum(compute.points.size() + compute.nodes.size(), comm) > 0,
-                    ExcMessage("Computes/" + compute.name + "/Region: the region '" + compute.region +
-                               "' holds no point" + (has_continuum ? " or FE node" : "") +
-                               " of the body, so '" + compute.operation + "' of " + compute.variable +
-                               " over it has no value: check Discretization/Regions/" + compute.region +
-                               " against the mesh's extent"));
+                    ExcMessage("Computes/" + compute.name + "/Region: " +
+                               (rebuild ? "after a conversion (Adaptivity) the region '" + compute.region + what +
+                                            "the cells whose FE nodes it held turned peridynamic, and their points "
+                                            "sit at the cells' centres. Make Discretization/Regions/" +
+                                            compute.region + " reach the centres of the cells it measures, or keep "
+                                            "those cells in a block that does not convert" :
+                                          "the region '" + compute.region + what + "check Discretization/Regions/" +
+                                            compute.region + " against the mesh's extent")));
       }
   }
 
@@ -497,10 +507,12 @@ namespace perideal
         const auto   n_fe  = std::count_if(bc.dofs.begin(), bc.dofs.end(), [&](unsigned int k) { return state.is_fe(k); });
         const auto   nodes = Utilities::MPI::sum(std::size_t(n_fe), comm);
         const auto   faces = Utilities::MPI::sum(bc.faces.size(), comm);
+        const auto   point_faces = Utilities::MPI::sum(bc.point_faces.size(), comm);
         const auto   points = Utilities::MPI::sum(bc.dofs.size() - n_fe, comm);
         pcout << "  condition '" << bc.name << "': "
               << (bc.type == BoundaryCondition::Type::traction ?
-                    std::to_string(faces) + " boundary faces" :
+                    std::to_string(faces + point_faces) + " boundary faces" +
+                      (point_faces > 0 ? " (" + std::to_string(point_faces) + " of PD cells)" : std::string()) :
                     std::to_string(points) + " points" +
                       (has_continuum ? ", " + std::to_string(nodes) + " FE DoFs" : std::string()))
               << (bc.boundary_id >= 0 && bc.type == BoundaryCondition::Type::traction ?

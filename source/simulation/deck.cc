@@ -632,13 +632,6 @@ namespace perideal
     deck.output.parse_parameters(prm);
     prm.leave_subsection();
     deck.adaptivity.resolve(deck.blocks);
-    if (deck.adaptivity.active())
-      {
-        // What a conversion does not carry over yet (doc/adaptivity.md).
-        AssertThrow(!deck.output.exodus,
-                    ExcMessage("Adaptivity/Convertible blocks: Output/Field format must be vtu or hdf5, whose "
-                               "files follow the changing cells (exodus writes the mesh once)"));
-      }
     AssertThrow(!deck.output.wants("Temperature") || !deck.temperature.function.empty(),
                 ExcMessage("Output/Variables: Temperature needs a temperature field: set Temperature/Function"));
   }

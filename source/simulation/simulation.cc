@@ -81,7 +81,6 @@ namespace perideal
         adaptivity = std::make_unique<Adaptivity>(deck.adaptivity, *discretization, *model, *coupling, *post, state,
                                                   record, comm, pcout, timer, [this](const double time) { rebuild(time); });
         adaptivity->use_integrator(deck.solver.type == "Verlet", deck.solver.type != "QuasiStatic");
-        adaptivity->check_conditions(deck.conditions);
       }
     // The stages still to come are checked now, not when they start (after
     // the ones before them have run and written their output).

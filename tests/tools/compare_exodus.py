@@ -13,7 +13,9 @@ nodal variable averaged over its 8 vertices equal to the HDF5 value at the
 cell's centre within --rtol-fe; unique node and element ids; and, with
 --globals, the global variables equal to the globals CSV's row of the same
 time. A file of a decomposed run (Exodus files = per rank) is read from
-all its pieces RUN.e.N.r.
+all its pieces RUN.e.N.r. A run whose written cells change (Adaptivity)
+writes a series, RUN.e, RUN.e-s0002, ...: every file of it is read, its
+steps the next ones of the .xdmf.
 
     compare_exodus.py RUN.e RUN.xdmf [--pieces N] [--globals RUN.globals.csv]
                       [--rtol 0] [--rtol-fe 1e-14] [--precision double|float]
@@ -85,34 +87,16 @@ def component_names(field, columns):
     return [base + a + b for a in "XYZ" for b in "XYZ"]
 
 
-def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("exodus")
-    parser.add_argument("xdmf")
-    parser.add_argument("--pieces", type=int, default=0)
-    parser.add_argument("--globals")
-    parser.add_argument("--rtol", type=float, default=0.0)
-    parser.add_argument("--rtol-fe", type=float, default=1e-14)
-    parser.add_argument("--precision", choices=("double", "float"), default="double")
-    args = parser.parse_args()
-    check = Checks()
-
-    if args.pieces:
-        width = len(str(args.pieces))
-        paths = ["%s.%d.%0*d" % (args.exodus, args.pieces, width, r) for r in range(args.pieces)]
-    else:
-        paths = [args.exodus]
-    check("the files %s exist" % ", ".join(os.path.basename(p) for p in paths), all(map(os.path.exists, paths)))
-    pieces = [read_piece(p) for p in paths]
-    kind = numpy.float64 if args.precision == "double" else numpy.float32
+def compare_file(check, pieces, steps, first_step, kind, args):
+    """One file of the series (all its pieces) against the .xdmf's steps
+    from first_step on; returns the step after its last."""
     check("every variable is %s" % kind.__name__, all(p["types"] <= {numpy.dtype(kind)} for p in pieces))
-    steps, problems = xdmf_steps(args.xdmf)
-    check("the .xdmf reads", not problems and len(steps) > 0)
     times = pieces[0]["times"]
-    check("%d steps in the Exodus file, %d in the .xdmf; the times bit for bit (as %s)"
-          % (len(times), len(steps), kind.__name__),
-          len(times) == len(steps) and all(p["times"].tolist() == times.tolist() for p in pieces)
-          and all(t == kind(s[0]) for t, s in zip(times, steps)))
+    mine = steps[first_step:first_step + len(times)]
+    check("%d steps from the .xdmf's step %d; the times bit for bit (as %s)"
+          % (len(times), first_step + 1, kind.__name__),
+          len(times) == len(mine) and all(p["times"].tolist() == times.tolist() for p in pieces)
+          and all(t == kind(s[0]) for t, s in zip(times, mine)))
     node_ids = numpy.concatenate([p["node_ids"] for p in pieces])
     element_ids = numpy.concatenate([b["element_ids"] for p in pieces for b in p["blocks"] if len(b["element_ids"])])
     check("%d node ids, %d element ids, each unique" % (len(node_ids), len(element_ids)),
@@ -121,8 +105,8 @@ def main():
           all(b["type"] in ("SPHERE", "HEX8", "") for p in pieces for b in p["blocks"])
           and all([b["id"] for b in p["blocks"]] == [b["id"] for b in pieces[0]["blocks"]] for p in pieces))
 
-    for k, (time, cells, fields, _) in enumerate(steps):
-        print("step %d (time %.17g):" % (k + 1, time))
+    for k, (time, cells, fields, _) in enumerate(mine):
+        print("step %d (time %.17g):" % (first_step + k + 1, time))
         key = centre_key(min(numpy.abs(c[0] - c[1]).max() for c in cells))
         by_centre = {key(c): c_index for c_index, c in enumerate(cells)}
         matched, vertices_equal, worst, scale = 0, True, {}, {}
@@ -161,17 +145,58 @@ def main():
             diff = worst[name] / max(scale[name], 1e-300)
             check("'%s': largest |exodus - hdf5| / max |hdf5| = %.3g <= %g" % (name, diff, rtol), diff <= rtol)
 
+    return first_step + len(times)
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("exodus")
+    parser.add_argument("xdmf")
+    parser.add_argument("--pieces", type=int, default=0)
+    parser.add_argument("--globals")
+    parser.add_argument("--rtol", type=float, default=0.0)
+    parser.add_argument("--rtol-fe", type=float, default=1e-14)
+    parser.add_argument("--precision", choices=("double", "float"), default="double")
+    args = parser.parse_args()
+    check = Checks()
+
+    def piece_paths(base):
+        if not args.pieces:
+            return [base]
+        width = len(str(args.pieces))
+        return ["%s.%d.%0*d" % (base, args.pieces, width, r) for r in range(args.pieces)]
+
+    # The series: RUN.e, then RUN.e-s0002, ... as long as they exist.
+    series = [args.exodus]
+    while os.path.exists(piece_paths("%s-s%04d" % (args.exodus, len(series) + 1))[0]):
+        series.append("%s-s%04d" % (args.exodus, len(series) + 1))
+    kind = numpy.float64 if args.precision == "double" else numpy.float32
+    steps, problems = xdmf_steps(args.xdmf)
+    check("the .xdmf reads", not problems and len(steps) > 0)
+    first_step = 0
+    all_times, all_globals = [], {}
+    for base in series:
+        paths = piece_paths(base)
+        check("the files %s exist" % ", ".join(os.path.basename(p) for p in paths), all(map(os.path.exists, paths)))
+        pieces = [read_piece(p) for p in paths]
+        first_step = compare_file(check, pieces, steps, first_step, kind, args)
+        all_times += pieces[0]["times"].tolist()
+        for name, values in pieces[0]["global"].items():
+            all_globals.setdefault(name, []).extend(values.tolist())
+    check("%d steps in %d Exodus file%s, %d in the .xdmf" % (first_step, len(series), "s" if len(series) > 1 else "",
+                                                          len(steps)), first_step == len(steps))
+
     if args.globals:
         with open(args.globals) as f:
             rows = list(csv.DictReader(f))
         by_time = {float(r["time"]): r for r in rows}
-        glob = pieces[0]["global"]
+        glob = all_globals
         columns = [c for c in rows[0] if c not in ("step", "time")]
         check("the global variables are the CSV's columns %s" % columns, list(glob) == columns)
-        written = [k for k, t in enumerate(times) if float(t) in by_time]
-        check("%d of %d steps have a globals row" % (len(written), len(times)), len(written) > 0)
-        equal = all(float(glob[c][k]) == float(by_time[float(times[k])][c]) for k in written for c in columns
-                    if c in glob)
+        written = [k for k, t in enumerate(all_times) if float(t) in by_time]
+        check("%d of %d steps have a globals row" % (len(written), len(all_times)), len(written) > 0)
+        equal = all(len(glob[c]) == len(all_times) and float(glob[c][k]) == float(by_time[float(all_times[k])][c])
+                    for k in written for c in columns if c in glob)
         check("each global variable equals the CSV's value bit for bit", equal)
     return check.finish()
 

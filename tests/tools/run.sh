@@ -486,21 +486,28 @@ mode_restart() {
   if [[ -f reference/$base.e && ! -f output/$base.e ]]; then
     # Output/Field format = exodus: a continued run goes on in its file as
     # it stands in the output folder. Here it gets the uninterrupted run's
-    # with every step after the checkpoint spoilt (NaN), which the continued
-    # run must write again.
-    mkdir -p output && cp "reference/$base.e" output/ || fail "cannot copy reference/$base.e"
-    "$PERIDEAL_PYTHON" - "output/$base.e" "$(sed -n 's/^time //p' "$checkpoint/checkpoint.txt")" <<'EOF' ||
+    # (every file of the series <base>.e, <base>.e-s0002, ... whose mesh
+    # changed) with every step after the checkpoint spoilt (NaN), which the
+    # continued run must write again.
+    mkdir -p output && cp reference/"$base".e reference/"$base".e-s* output/ 2>/dev/null
+    [[ -f output/$base.e ]] || fail "cannot copy reference/$base.e"
+    "$PERIDEAL_PYTHON" - "$(sed -n 's/^time //p' "$checkpoint/checkpoint.txt")" output/"$base".e output/"$base".e-s* <<'EOF' ||
 import sys, netCDF4
-after = float.fromhex(sys.argv[2])
-nc = netCDF4.Dataset(sys.argv[1], "a")
-steps = [k for k, t in enumerate(nc.variables["time_whole"][:]) if t > after]
-for name, v in nc.variables.items():
-    if name.startswith("vals_") or name == "time_whole":
-        for k in steps:
-            v[k] = float("nan")
-nc.close()
-print("the Exodus file's %d steps after the checkpoint spoilt" % len(steps))
-sys.exit(0 if steps else 1)
+after = float.fromhex(sys.argv[1])
+spoilt = 0
+for path in sys.argv[2:]:
+    if path.endswith("-s*"):
+        continue  # no series
+    nc = netCDF4.Dataset(path, "a")
+    steps = [k for k, t in enumerate(nc.variables["time_whole"][:]) if t > after]
+    for name, v in nc.variables.items():
+        if name.startswith("vals_") or name == "time_whole":
+            for k in steps:
+                v[k] = float("nan")
+    nc.close()
+    spoilt += len(steps)
+print("the Exodus files' %d steps after the checkpoint spoilt" % spoilt)
+sys.exit(0 if spoilt else 1)
 EOF
       fail "no Exodus step after the checkpoint to spoil"
   fi
@@ -509,8 +516,13 @@ EOF
   cmp "reference/$base.globals.csv" "$csv" || fail "the continued globals CSV differs from the uninterrupted run's"
   local last pieces p
   if [[ -f reference/$base.e ]]; then
-    cmp "reference/$base.e" "output/$base.e" || fail "the continued Exodus file differs from the uninterrupted run's"
-    echo "PASS: continued from $checkpoint: $(($(wc -l <"$csv") - 1)) globals rows and the Exodus file equal the uninterrupted run's byte for byte"
+    pieces=$(cd reference && ls "$base".e "$base".e-s* 2>/dev/null)
+    for p in $pieces; do
+      cmp "reference/$p" "output/$p" || fail "the continued Exodus file $p differs from the uninterrupted run's"
+    done
+    [[ $(cd output && ls "$base".e "$base".e-s* 2>/dev/null | wc -l) -eq $(echo $pieces | wc -w) ]] ||
+      fail "the continued run wrote other Exodus files than the uninterrupted run"
+    echo "PASS: continued from $checkpoint: $(($(wc -l <"$csv") - 1)) globals rows and the $(echo $pieces | wc -w) Exodus files equal the uninterrupted run's byte for byte"
     return
   fi
   if [[ -f reference/$base.xdmf ]]; then

@@ -18,15 +18,13 @@ for h in $spacings; do
     mkdir -p "$run"
     # The spacing h mm: cells 4 h (refined twice to h), 100/(4 h) x 40/(4 h),
     # one cell thick (4 points, 4 h); horizon 4 h; the body force on the
-    # outermost row 3 MPa / h; the convertible block ends 0.9 coarse cells
-    # from the loaded edges.
-    read -r nx ny thick delta force row inner < <(python3 -c "h = $h; print(round(25 / h), round(10 / h), '%.6g' % (4e-3 * h), '%.6g' % (4e-3 * h), '%.6g' % (1e-3 * h), '%.6g' % (0.02 - 0.6e-3 * h), '%.6g' % (0.02 - 3.6e-3 * h))")
+    # outermost row 3 MPa / h.
+    read -r nx ny thick delta force row < <(python3 -c "h = $h; print(round(25 / h), round(10 / h), '%.6g' % (4e-3 * h), '%.6g' % (4e-3 * h), '%.6g' % (1e-3 * h), '%.6g' % (0.02 - 0.6e-3 * h))")
     sed -e "s|set Subdivisions = 100, 40, 1|set Subdivisions = $nx, $ny, 1|" \
         -e "s|Upper corner = 0.1, 0.02, 0.001|Upper corner = 0.1, 0.02, $thick|" \
         -e "s|set Horizon = 0.001|set Horizon = $delta|" \
         -e "s|3e6/0.00025|3e6/$force|" \
         -e "s|0.01985|$row|" \
-        -e "s|abs(y) < 0.0191|abs(y) < $inner|" \
         -e "s|set Directory = output|set Directory = .|" "$here/$scene.prm" > "$run/params.prm"
     echo "running $scene, spacing $h mm, on $ranks ranks ..."
     (cd "$run" && mpirun -np "$ranks" "$pd_app" params.prm > log)

@@ -57,11 +57,6 @@ namespace perideal
     /// without inertia (QuasiStatic) no wave moves between checks.
     void
     use_integrator(const bool explicit_steps, const bool with_inertia);
-    /// Refuses a Traction on faces of convertible cells (@p conditions,
-    /// set up): a converted cell has no FE face to carry it, and the load
-    /// would vanish with the conversion. Collective.
-    void
-    check_conditions(const std::vector<BoundaryCondition> &conditions) const;
     /// Whether the integrator that runs now has inertia (use_integrator()).
     bool
     has_inertia() const

@@ -62,5 +62,15 @@ namespace perideal
     std::vector<unsigned int> dofs;
     /// Traction: owned boundary faces of FE cells (cell, face number).
     std::vector<std::pair<CellIterator, unsigned int>> faces;
+    /// Traction: owned boundary faces of PD cells, each loading its cell's
+    /// point with traction x area (as a body force over the point's volume).
+    struct PointFace
+    {
+      unsigned int      point; // the point's local index
+      double            area;
+      dealii::Point<dim> center;
+    };
+    std::vector<PointFace> point_faces;
+    bool                   on_points = false; // point_faces on some rank
   };
 } // namespace perideal

@@ -101,6 +101,11 @@ namespace perideal
     unsigned int                    bad_condition = 0; // 1 + index of a condition that gave a non-finite value
 
   private:
+    /// A Traction's owned boundary faces in its Region (or of its Boundary
+    /// id): of FE cells, and of PD cells with the point each loads.
+    void
+    find_traction_faces(BoundaryCondition &bc) const;
+
     const Discretization &discretization;
     const PointCloud     &cloud;
     MechanicalState      &state;

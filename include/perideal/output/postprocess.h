@@ -99,6 +99,7 @@ namespace perideal
     Coupling                   *coupling      = nullptr;
     ContinuumField             *continuum     = nullptr; // coupling's FE field
     bool                        has_continuum = false;
+    unsigned int                setups        = 0; // setup() calls: after the first, a rebuild (conversion)
     std::vector<RegionCompute> &computes;
     const PointCloud           &cloud;
     const Bonds                &bonds;
