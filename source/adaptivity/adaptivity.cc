@@ -642,6 +642,10 @@ namespace perideal
     // Packed and sent: the sender's copy is not needed while the moved one is built.
     old     = Snapshot();
     in_cell = std::vector<std::vector<unsigned int>>();
+    // The points that stay on this rank keep their families (no point moved
+    // in space); only those of the points that arrive are searched.
+    const OwnFamilies      own = take_own_families();
+    const PreviousFamilies keep = own.to_keep(discretization.cloud.max_cell_radius);
     std::vector<CellId> converted_ids;
     triangulation.notify_ready_to_unpack(handle,
                                          [&](const Triangulation<dim>::cell_iterator &cell,
@@ -655,12 +659,15 @@ namespace perideal
     add_ghost_fe_cells(moved);
 
     // The points, bonds and parts of the new partition, the state from what moved.
-    rebuild_and_restore(moved, time);
+    rebuild_and_restore(moved, time, &keep);
     energies(); // the forces of the new numbering
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     record.conversion_seconds += took;
+    const double kept  = Utilities::MPI::sum(double(discretization.bonds.kept_families), comm);
+    const double owned = Utilities::MPI::sum(double(discretization.cloud.n_owned()), comm);
     pcout << "Adaptivity: rebalanced, the work out of balance by " << sci(100 * imbalance, 3) << "% -> "
-          << sci(100 * discretization.work_imbalance(), 3) << "%; " << sci(took, 3) << " s" << std::endl;
+          << sci(100 * discretization.work_imbalance(), 3) << "% (" << std::setprecision(3)
+          << 100 * kept / std::max(1.0, owned) << "% of the families kept); " << sci(took, 3) << " s" << std::endl;
   }
 
   std::vector<char>
@@ -829,10 +836,40 @@ namespace perideal
     finish_moved(moved); // CellId order again
   }
 
-  void
-  Adaptivity::rebuild_and_restore(const Snapshot &old, const double time)
+  Adaptivity::OwnFamilies
+  Adaptivity::take_own_families() const
   {
-    const PreviousFamilies families  = families_to_keep(old);
+    OwnFamilies own;
+    Bonds &bonds = discretization.bonds;
+    own.keys     = discretization.cloud.key; // owned, then ghosts: the far ends' keys
+    own.offsets  = std::move(bonds.offsets); // the rebuild replaces them
+    own.neighbor = std::move(bonds.neighbor);
+    own.order.resize(own.offsets.empty() ? 0 : own.offsets.size() - 1);
+    for (unsigned int i = 0; i < own.order.size(); ++i)
+      own.order[i] = i;
+    std::sort(own.order.begin(), own.order.end(),
+              [&](const unsigned int a, const unsigned int b) { return own.keys[a] < own.keys[b]; });
+    return own;
+  }
+
+  PreviousFamilies
+  Adaptivity::OwnFamilies::to_keep(const double extra_reach) const
+  {
+    PreviousFamilies families;
+    families.keys           = &keys;
+    families.order          = &order;
+    families.offsets        = &offsets;
+    families.neighbor_index = &neighbor;
+    families.index_keys     = &keys;
+    families.extra_reach    = extra_reach;
+    families.nothing_moved  = true;
+    return families;
+  }
+
+  void
+  Adaptivity::rebuild_and_restore(const Snapshot &old, const double time, const PreviousFamilies *keep)
+  {
+    const PreviousFamilies families  = keep != nullptr ? *keep : families_to_keep(old);
     discretization.previous_families = &families;
     try
       {

@@ -425,7 +425,8 @@ namespace perideal
         horizon[b] = blocks[b].horizon, rigid[b] = blocks[b].rigid;
       PreviousFamilies previous;
       if (previous_families != nullptr)
-        previous = with_changed_points(*previous_families, horizon);
+        previous = previous_families->nothing_moved ? *previous_families :
+                                                      with_changed_points(*previous_families, horizon);
       bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius, rigid,
                             previous_families != nullptr ? &previous : nullptr);
       if (scene.partial_volumes)

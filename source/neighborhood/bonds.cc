@@ -63,7 +63,9 @@ namespace perideal
         const std::size_t begin = neighbor.size();
         for (std::size_t b = (*previous->offsets)[old]; b < (*previous->offsets)[old + 1]; ++b)
           {
-            const auto j = local.find((*previous->neighbors)[b]);
+            const auto j = local.find(previous->neighbor_index != nullptr ?
+                                        (*previous->index_keys)[(*previous->neighbor_index)[b]] :
+                                        (*previous->neighbors)[b]);
             if (j == local.end())
               {
                 neighbor.resize(begin);

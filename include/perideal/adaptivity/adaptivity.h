@@ -178,9 +178,25 @@ namespace perideal
     unsigned int
     old_point(const Snapshot &old, const PointKey &key) const;
     /// The points, bonds and parts made again (the families far from the
-    /// changes kept from @p old), then restore(@p old). Collective.
+    /// changes kept from @p old, or those of @p keep), then restore(@p old).
+    /// Collective.
     void
-    rebuild_and_restore(const Snapshot &old, const double time);
+    rebuild_and_restore(const Snapshot &old, const double time, const PreviousFamilies *keep = nullptr);
+    /// A rank's families as they are, the far ends by key (a rebalance keeps
+    /// those of the points that stay).
+    struct OwnFamilies
+    {
+      std::vector<PointKey>     keys;  // the rank's points, owned first
+      std::vector<unsigned int> order; // the owned ones' indices, sorted by key
+      std::vector<std::size_t>  offsets;
+      std::vector<unsigned int> neighbor; // indices into keys
+      PreviousFamilies
+      to_keep(const double extra_reach) const;
+    };
+    /// Takes the rank's families out of the Discretization (which a rebuild
+    /// makes anew) with its points' keys.
+    OwnFamilies
+    take_own_families() const;
     /// Sets u and v of every owned point and FE DoF from @p old, then
     /// restore_bonds().
     void

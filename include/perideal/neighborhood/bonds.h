@@ -147,6 +147,13 @@ namespace perideal
     const std::vector<unsigned int> *block     = nullptr; // per old owned point
     const std::vector<std::uint8_t> *complete  = nullptr; // per old owned point, 0: its family is not all there (nullptr: all are)
     double                           extra_reach = 0;     // the earlier search's (none kept if it differs)
+    // Instead of neighbors: each bond's far end as an index into index_keys
+    // (a rebalance keeps the rank's own bonds as they were, 4 bytes each).
+    const std::vector<unsigned int> *neighbor_index = nullptr;
+    const std::vector<PointKey>     *index_keys     = nullptr;
+    // A rebalance: no point changed place, block or weight, so no family
+    // changed; only those of the points new to the rank are searched.
+    bool nothing_moved = false;
     // Filled by the Discretization from the new points: where points
     // appeared, vanished or changed (every rank's), and the search reach.
     std::vector<dealii::Point<dim>> changed;
