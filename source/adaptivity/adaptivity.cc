@@ -837,7 +837,7 @@ namespace perideal
   }
 
   Adaptivity::OwnFamilies
-  Adaptivity::take_own_families() const
+  Adaptivity::take_own_families()
   {
     OwnFamilies own;
     Bonds &bonds = discretization.bonds;

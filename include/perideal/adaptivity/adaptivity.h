@@ -196,7 +196,7 @@ namespace perideal
     /// Takes the rank's families out of the Discretization (which a rebuild
     /// makes anew) with its points' keys.
     OwnFamilies
-    take_own_families() const;
+    take_own_families();
     /// Sets u and v of every owned point and FE DoF from @p old, then
     /// restore_bonds().
     void
