@@ -40,7 +40,8 @@ namespace perideal
     std::vector<unsigned int>  block;     // per old owned point
     std::vector<double>        u, v;      // dim per old owned point
     std::vector<std::size_t>   offsets;   // old bonds per old owned point (CSR)
-    std::vector<PointKey>      neighbor;  // per old bond, each family sorted by it: the far end's key
+    std::vector<unsigned int>  neighbor;  // per old bond, the far end as an index into far_keys; each family sorted by key
+    std::vector<PointKey>      far_keys;  // the far ends' keys
     std::vector<std::size_t>   bond;      // the old bond index of each of them
     std::vector<std::uint8_t>  complete;  // per old owned point: 0 if its family lists only the bonds with a state; empty: all complete
     std::vector<std::uint8_t>  broken;    // per old bond (empty without damage)
@@ -691,7 +692,7 @@ namespace perideal
         for (std::size_t k = old.offsets[i]; k < old.offsets[i + 1]; ++k)
           {
             const std::size_t b = old.bond[k];
-            put(bytes, old.neighbor[k]);
+            put(bytes, old.far_keys[old.neighbor[k]]);
             if (!old.broken.empty())
               put(bytes, old.broken[b]);
             if (!old.damage.empty())
@@ -734,7 +735,8 @@ namespace perideal
         for (std::size_t k = 0; k < family; ++k)
           {
             moved.bond.push_back(moved.neighbor.size());
-            moved.neighbor.push_back(in.get<PointKey>());
+            moved.neighbor.push_back(moved.far_keys.size());
+            moved.far_keys.push_back(in.get<PointKey>());
             if (!model.broken.empty())
               moved.broken.push_back(in.get<std::uint8_t>());
             if (!model.damage.empty())
@@ -891,7 +893,8 @@ namespace perideal
     families.keys        = &old.keys;
     families.order       = &old.order;
     families.offsets     = &old.offsets;
-    families.neighbors   = &old.neighbor;
+    families.neighbor_index = &old.neighbor;
+    families.index_keys     = &old.far_keys;
     families.positions   = &old.position;
     families.alpha       = &old.alpha;
     families.block       = &old.block;
@@ -942,9 +945,10 @@ namespace perideal
     old.broken  = model.broken;
     old.damage  = model.damage;
     old.history = model.field_store().history(n, bonds.n_bonds());
-    // Each family sorted by the far end's key: a bond is found again by it.
-    // Only its bonds with a state (a rebalance): the others are found again
-    // by the search and start intact, as they were.
+    // Each family sorted by the far end's key: a bond is found again by it
+    // (find_families() sorts them so; checked, not assumed). Only its bonds
+    // with a state (a rebalance): the others are found again by the search
+    // and start intact, as they were.
     const std::size_t width     = old.history.bond_width;
     const auto        has_state = [&](const std::size_t b) {
       if ((!old.broken.empty() && old.broken[b] != 0) || (!old.damage.empty() && old.damage[b] != 0))
@@ -960,17 +964,22 @@ namespace perideal
         old.neighbor.reserve(bonds.n_bonds());
         old.bond.reserve(bonds.n_bonds());
       }
-    std::vector<std::pair<PointKey, std::size_t>> family;
+    old.far_keys = cloud.key;
+    const auto by_far_key = [&](const std::size_t a, const std::size_t b) {
+      return cloud.key[bonds.neighbor[a]] < cloud.key[bonds.neighbor[b]];
+    };
+    std::vector<std::size_t> family;
     for (unsigned int i = 0; i < n; ++i)
       {
         family.clear();
         for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
           if (!bonds_with_state_only || has_state(b))
-            family.emplace_back(cloud.key[bonds.neighbor[b]], b);
-        std::sort(family.begin(), family.end());
-        for (const auto &[key, b] : family)
+            family.push_back(b);
+        if (!std::is_sorted(family.begin(), family.end(), by_far_key))
+          std::sort(family.begin(), family.end(), by_far_key);
+        for (const std::size_t b : family)
           {
-            old.neighbor.push_back(key);
+            old.neighbor.push_back(bonds.neighbor[b]);
             old.bond.push_back(b);
           }
         old.offsets.push_back(old.neighbor.size());
@@ -1142,13 +1151,15 @@ namespace perideal
           // A kept family comes in the snapshot's order: bond by bond, no search.
           std::size_t b = bonds.offsets[i];
           if (bonds.offsets[i + 1] - b == std::size_t(last - first))
-            for (auto it = first; it != last && cloud.key[bonds.neighbor[b]] == *it; ++it, ++b)
+            for (auto it = first; it != last && cloud.key[bonds.neighbor[b]] == old.far_keys[*it]; ++it, ++b)
               bond_map[b] = old.bond[it - old.neighbor.begin()];
           for (; b < bonds.offsets[i + 1]; ++b)
             {
               const PointKey &key = cloud.key[bonds.neighbor[b]];
-              const auto      it  = std::lower_bound(first, last, key);
-              if (it != last && *it == key)
+              const auto      it  = std::lower_bound(first, last, key, [&](const unsigned int k, const PointKey &x) {
+                return old.far_keys[k] < x;
+              });
+              if (it != last && old.far_keys[*it] == key)
                 bond_map[b] = old.bond[it - old.neighbor.begin()];
             }
         }

@@ -40,9 +40,17 @@ namespace perideal
         if (this->previous == nullptr)
           return;
         changed = pack_rtree(this->previous->changed);
+        std::unordered_map<PointKey, unsigned int, KeyHash> local; // key -> new local index
         local.reserve(cloud.n_local());
         for (unsigned int i = 0; i < cloud.n_local(); ++i)
           local.emplace(cloud.key[i], i);
+        const std::vector<PointKey> &far = *this->previous->index_keys;
+        now.resize(far.size());
+        for (std::size_t k = 0; k < far.size(); ++k)
+          {
+            const auto j = local.find(far[k]);
+            now[k]       = j == local.end() ? numbers::invalid_unsigned_int : j->second;
+          }
       }
 
       /// Appends point @p i's old family (new indices) to @p neighbor;
@@ -63,23 +71,21 @@ namespace perideal
         const std::size_t begin = neighbor.size();
         for (std::size_t b = (*previous->offsets)[old]; b < (*previous->offsets)[old + 1]; ++b)
           {
-            const auto j = local.find(previous->neighbor_index != nullptr ?
-                                        (*previous->index_keys)[(*previous->neighbor_index)[b]] :
-                                        (*previous->neighbors)[b]);
-            if (j == local.end())
+            const unsigned int j = now[(*previous->neighbor_index)[b]];
+            if (j == numbers::invalid_unsigned_int)
               {
                 neighbor.resize(begin);
                 return false;
               }
-            neighbor.push_back(j->second);
+            neighbor.push_back(j);
           }
         return true;
       }
 
     private:
-      const PreviousFamilies                             *previous;
-      dealii::RTree<dealii::Point<dim>>                   changed; // where points changed
-      std::unordered_map<PointKey, unsigned int, KeyHash> local;   // key -> new local index
+      const PreviousFamilies           *previous;
+      dealii::RTree<dealii::Point<dim>> changed; // where points changed
+      std::vector<unsigned int>         now;     // per index_keys entry: its new local index, or invalid
     };
   } // namespace
 
@@ -102,6 +108,16 @@ namespace perideal
     for (unsigned int i = 0; i < n_local; ++i)
       points[i] = cloud.position(i);
     const auto tree = pack_rtree_of_indices(points);
+    // Each family is sorted by its far ends' keys (the same order on any
+    // number of ranks): by each point's place in the key order, an integer.
+    std::vector<unsigned int> by_key(n_local), key_rank(n_local);
+    for (unsigned int i = 0; i < n_local; ++i)
+      by_key[i] = i;
+    std::sort(by_key.begin(), by_key.end(), [&](const unsigned int a, const unsigned int b) {
+      return cloud.key[a] < cloud.key[b];
+    });
+    for (unsigned int r = 0; r < n_local; ++r)
+      key_rank[by_key[r]] = r;
 
     // Reserve for a full interior family (a lattice holds up to ~9% more
     // points than the sphere's volume) so that the bond array, the largest
@@ -223,15 +239,13 @@ namespace perideal
                 different_horizons |= reach_j != reach_i;
                 if (std::sqrt(r2) <= same_place && coincident++ == 0)
                   first_coincident = x;
-                bonds.neighbor.push_back(j);
+                bonds.neighbor.push_back(key_rank[j]);
                 used[j] = true;
               }
           }
-        std::sort(bonds.neighbor.begin() + begin,
-                  bonds.neighbor.end(),
-                  [&](unsigned int a, unsigned int b) {
-                    return cloud.key[a] < cloud.key[b];
-                  });
+        std::sort(bonds.neighbor.begin() + begin, bonds.neighbor.end());
+        for (auto b = bonds.neighbor.begin() + begin; b != bonds.neighbor.end(); ++b)
+          *b = by_key[*b];
       }
     bonds.offsets[n_owned] = bonds.neighbor.size();
     // Which halves are real: j in F(i) and i in F(j), by the same test as

@@ -140,15 +140,15 @@ namespace perideal
   {
     const std::vector<PointKey>     *keys      = nullptr; // the old owned points
     const std::vector<unsigned int> *order     = nullptr; // their indices, sorted by key
-    const std::vector<std::size_t>  *offsets   = nullptr; // their families' ranges in neighbors
-    const std::vector<PointKey>     *neighbors = nullptr; // each family by key, sorted by key
+    const std::vector<std::size_t>  *offsets   = nullptr; // their families' ranges in neighbor_index
     const std::vector<double>       *positions = nullptr; // dim per old owned point
     const std::vector<double>       *alpha     = nullptr; // the blending weight per old owned point
     const std::vector<unsigned int> *block     = nullptr; // per old owned point
     const std::vector<std::uint8_t> *complete  = nullptr; // per old owned point, 0: its family is not all there (nullptr: all are)
     double                           extra_reach = 0;     // the earlier search's (none kept if it differs)
-    // Instead of neighbors: each bond's far end as an index into index_keys
-    // (a rebalance keeps the rank's own bonds as they were, 4 bytes each).
+    // Each bond's far end as an index into index_keys (the rank's points
+    // then), each family sorted by the far ends' keys: 4 bytes a bond, and
+    // one look-up per point of index_keys rather than one per bond.
     const std::vector<unsigned int> *neighbor_index = nullptr;
     const std::vector<PointKey>     *index_keys     = nullptr;
     // A rebalance: no point changed place, block or weight, so no family
