@@ -555,6 +555,8 @@ namespace perideal
     filtered_bonds.assign(bond_filters.size(), 0);
     const bool periodic = cloud.periodicity.any();
     bonds.keep_if(cloud.n_owned(), [&](const unsigned int i, const unsigned int j) {
+      if (!bonds.kept.empty() && bonds.kept[i])
+        return true; // cut before (filtered_bonds counts the searched families)
       // Across a periodic face the bond has two images, one at each end's
       // face; either cut cuts it, so that both owners decide alike.
       const Point<dim> xi = cloud.position(i), xj = cloud.position(j);

@@ -192,6 +192,8 @@ namespace perideal
                 different_horizons |= block_reach[cloud.block[bonds.neighbor[b]]] != reach_i;
               }
             ++bonds.kept_families;
+            bonds.kept.resize(n_owned);
+            bonds.kept[i] = 1;
             continue;
           }
         // Coincident: closer than a millionth of the point's own cell size

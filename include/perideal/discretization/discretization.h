@@ -119,7 +119,7 @@ namespace perideal
     dealii::DoFHandler<dim>       dof_handler;
     PointCloud                    cloud;
     Bonds                         bonds;
-    std::vector<std::size_t>      filtered_bonds;       // per filter: directed bonds it cut (all ranks)
+    std::vector<std::size_t>      filtered_bonds;       // per filter: directed bonds it cut in the searched families (all ranks; the set-up's: all)
     std::vector<std::uint8_t>     initially_broken;     // per bond: 1 if it starts broken; empty without initial damage
     std::vector<std::size_t>      initially_broken_bonds; // per initial damage entry: directed bonds it broke (all ranks)
     double                        unbalanced_bonds = 0; // % above the mean before rebalancing, 0: not needed

@@ -35,6 +35,9 @@ namespace perideal
     std::vector<double> block_horizon;
     /// The owned points that kept their families (find_families() with PreviousFamilies).
     unsigned int kept_families = 0;
+    /// Per owned point, 1 if it kept its family: those bonds passed the
+    /// bond filters before, and need not again. Empty: none kept.
+    std::vector<std::uint8_t> kept;
 
     /// 1 if bond @p b is in its owner's family, else 0 (set-up and reporting).
     double
