@@ -311,11 +311,13 @@ namespace perideal
   void
   Discretization::compare_with_searched_families()
   {
-    const auto kept = families_by_key();
+    const auto         kept   = families_by_key();
+    const unsigned int n_kept = bonds.kept_families; // the log's share: what keeping kept (and was checked)
     const PreviousFamilies *previous = previous_families;
     previous_families = nullptr;
     build_points_and_bonds();
-    previous_families = previous;
+    previous_families   = previous;
+    bonds.kept_families = n_kept;
     const auto   searched  = families_by_key();
     std::vector<PointKey> different; // sorted, as the families are
     for (std::size_t k = 0; k < searched.size(); ++k)
