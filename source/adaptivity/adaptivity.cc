@@ -121,10 +121,12 @@ namespace perideal
                       "cells that p4est's 2:1 balance refines with them stay FE, their field interpolated; the "
                       "horizon is the block's. The refinement is part of a checkpoint (doc/adaptivity.md).");
     prm.declare_entry("Rebalance threshold", "0.25", Patterns::Double(0),
-                      "After a conversion on several ranks: if the largest rank's work (its bonds, plus a few per "
-                      "point and one per cell, the set-up's measure) exceeds the mean by more than this fraction, "
-                      "the mesh is partitioned again by that work and every point, bond and FE cell moves to its "
-                      "new rank with its state (doc/adaptivity.md). 0: never (the partition of the set-up stays).");
+                      "At a conversion on several ranks: if the largest rank's work (its bonds, plus a few per "
+                      "point and one per cell, the set-up's measure) would exceed the mean by more than this "
+                      "fraction after it, the mesh is partitioned again by that work, predicted, before the "
+                      "conversion's rebuild, and every point, bond and FE cell moves to its new rank with its "
+                      "state; if the work is still out of balance after the conversion, it is partitioned again "
+                      "(doc/adaptivity.md). 0: never (the partition of the set-up stays).");
     prm.leave_subsection();
   }
 
@@ -524,13 +526,17 @@ namespace perideal
         record.conversion_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return false;
       }
-    // 2. The state before, by identity; the converted cells refined; the
-    // new points, bonds and parts.
-    const auto             before   = energies();
-    const Snapshot         old      = take_snapshot();
-    const unsigned int     splits   = parameters.refine ? refine_converted_cells() : 0;
+    // 2. The state before, by identity (moved to the ranks that own the
+    // cells after the conversion if its work would be out of balance); the
+    // converted cells refined; the new points, bonds and parts.
+    const auto         before = energies();
+    Moved              moved;
+    const Snapshot     old    = snapshot_for_conversion(moved);
+    const unsigned int splits = parameters.refine ? refine_converted_cells() : 0;
     // 3. The state after: carried over, the new points from the FE field.
-    rebuild_and_restore(old, time);
+    const PreviousFamilies keep = moved.moved ? moved.own.after_move(old, moved.reach) : PreviousFamilies();
+    rebuild_and_restore(old, time, moved.moved ? &keep : nullptr);
+    moved.own = OwnFamilies();
     const auto   after = energies();
     // Without inertia a velocity is no motion (QuasiStatic's Velocity = load
     // step): the strain energy alone, as in the balance.
@@ -541,7 +547,7 @@ namespace perideal
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     record.conversion_seconds += took;
     const double bonds    = Utilities::MPI::sum(double(discretization.bonds.n_bonds()), comm);
-    const double kept     = Utilities::MPI::sum(double(discretization.bonds.kept_families), comm);
+    const double kept     = Utilities::MPI::sum(double(discretization.bonds.n_kept()), comm);
     const double owned    = Utilities::MPI::sum(double(discretization.cloud.n_owned()), comm);
     pcout << "Adaptivity: step " << step << ", t = " << sci(time, 6) << ": " << marked << " cells converted ("
           << triggers.size() << " marked by the indicator, buffer " << sci(width, 4) << ")"
@@ -555,9 +561,97 @@ namespace perideal
     pcout << "strain " << sci(before.second, 6) << " -> " << sci(after.second, 6) << ": energy jump " << sci(jump, 3)
           << " (" << sci(jump / std::max(scale, std::numeric_limits<double>::min()), 3) << " relative); "
           << sci(took, 3) << " s" << std::endl;
+    if (moved.moved)
+      pcout << "Adaptivity: rebalanced with the conversion: its work would have been out of balance by "
+            << sci(100 * moved.imbalance, 3) << "% (predicted), is by " << sci(100 * discretization.work_imbalance(), 3)
+            << "%; the move took " << sci(moved.seconds, 3) << " s" << std::endl;
     if (parameters.rebalance > 0 && Utilities::MPI::n_mpi_processes(comm) > 1)
       rebalance(time);
     return true;
+  }
+
+  Adaptivity::Snapshot
+  Adaptivity::snapshot_for_conversion(Moved &moved)
+  {
+    if (parameters.rebalance <= 0 || Utilities::MPI::n_mpi_processes(comm) == 1)
+      return take_snapshot();
+    moved.imbalance = predict_work_imbalance();
+    if (moved.imbalance <= parameters.rebalance)
+      return take_snapshot();
+    TimerOutput::Scope t(timer, "adaptivity: rebalance");
+    const auto         start = std::chrono::steady_clock::now();
+    Snapshot           now   = move_to_new_partition(take_snapshot(/*bonds_with_state_only=*/true));
+    moved.own                = take_own_families();
+    moved.reach              = discretization.cloud.max_cell_radius;
+    moved.moved              = true;
+    moved.seconds            = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return now;
+  }
+
+  double
+  Adaptivity::predict_work_imbalance() const
+  {
+    // The work of the points there are (set_cell_weights()); a cell about
+    // to convert (still FE) as the points it will hold; an FE cell the
+    // coupling band will reach as the virtual points it will hold. Each
+    // new point with the mean family of its kind now.
+    discretization.set_cell_weights();
+    const PointCloud &cloud = discretization.cloud;
+    const Bonds      &bonds = discretization.bonds;
+    double            sums[4] = {0, 0, 0, 0}; // bonds and points: of the peridynamic block, virtual
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        const bool virtual_point = discretization.is_virtual(i);
+        if (virtual_point || (cloud.block[i] == discretization.converted_block && !cloud.is_extra(i)))
+          {
+            sums[2 * virtual_point] += bonds.offsets[i + 1] - bonds.offsets[i];
+            sums[2 * virtual_point + 1] += 1;
+          }
+      }
+    Utilities::MPI::sum(sums, comm, sums);
+    const double per_point   = (sums[1] > 0 ? sums[0] / sums[1] : 0.0) + 4;
+    const double per_virtual = sums[3] > 0 ? sums[2] / sums[3] + 4 : per_point;
+    const double most        = 4e9; // a cell's weight is an unsigned int
+
+    const std::vector<std::uint8_t> &converted = discretization.converted;
+    std::vector<Point<dim>>          converting; // the owned converting cells' centres, then every rank's
+    double                           reach[2] = {0, -std::numeric_limits<double>::max()}; // largest diameter, -smallest point volume
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && converted[cell->active_cell_index()] && cell->active_fe_index() > 0)
+        {
+          const int    levels = parameters.refine ? std::max(0, target_level - cell->level()) : 0;
+          const double points = std::pow(double(GeometryInfo<dim>::max_children_per_cell), levels);
+          cell->set_user_index(static_cast<unsigned int>(std::min(points * per_point, most)));
+          converting.push_back(cell->center());
+          reach[0] = std::max(reach[0], cell->diameter());
+          reach[1] = std::max(reach[1], -cell->measure() / points);
+        }
+    Utilities::MPI::max(reach, comm, reach);
+    std::vector<Point<dim>> all;
+    for (const auto &part : Utilities::MPI::all_gather(comm, converting))
+      all.insert(all.end(), part.begin(), part.end());
+    // The band's rule (Discretization::build_coupled_cloud()), the
+    // converting cells' centres for their points.
+    const double serves = (discretization.blending() + (discretization.force_blending ? 2 : 1)) *
+                          discretization.blocks[discretization.converted_block].horizon;
+    const auto   tree = pack_rtree(all);
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0 && !converted[cell->active_cell_index()] &&
+          !discretization.cell_virtual[cell->active_cell_index()])
+        for (const auto &x : tree | bgi::adaptors::queried(bgi::nearest(cell->center(), 1)))
+          if (x.distance(cell->center()) - 0.5 * (cell->diameter() + reach[0]) <= serves)
+            {
+              const int levels = std::max(0, int(std::lround(std::log2(std::cbrt(cell->measure() / -reach[1])))));
+              const double points = std::pow(double(GeometryInfo<dim>::max_children_per_cell), levels);
+              cell->set_user_index(static_cast<unsigned int>(std::min(cell->user_index() + points * per_virtual, most)));
+            }
+
+    double work = 0;
+    for (const auto &cell : discretization.triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        work += cell->user_index();
+    const auto balance = Utilities::MPI::min_max_avg(work, comm);
+    return balance.avg > 0 ? balance.max / balance.avg - 1 : 0.0;
   }
 
   // ------------------------------------------------------------ rebalance
@@ -612,9 +706,30 @@ namespace perideal
       return;
     TimerOutput::Scope t(timer, "adaptivity: rebalance");
     const auto         start = std::chrono::steady_clock::now();
-    // The state by identity, each owned cell's share of it packed for the
-    // rank that owns the cell after p4est partitioned the mesh by the work.
-    Snapshot                               old = take_snapshot(/*bonds_with_state_only=*/true);
+    discretization.set_cell_weights();
+    Snapshot moved = move_to_new_partition(take_snapshot(/*bonds_with_state_only=*/true));
+    // The points that stay on this rank keep their families (no point moved
+    // in space); only those of the points that arrive are searched.
+    const OwnFamilies      own  = take_own_families();
+    const PreviousFamilies keep = own.to_keep(discretization.cloud.max_cell_radius);
+
+    // The points, bonds and parts of the new partition, the state from what moved.
+    rebuild_and_restore(moved, time, &keep);
+    energies(); // the forces of the new numbering
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    record.conversion_seconds += took;
+    const double kept  = Utilities::MPI::sum(double(discretization.bonds.n_kept()), comm);
+    const double owned = Utilities::MPI::sum(double(discretization.cloud.n_owned()), comm);
+    pcout << "Adaptivity: rebalanced, the work out of balance by " << sci(100 * imbalance, 3) << "% -> "
+          << sci(100 * discretization.work_imbalance(), 3) << "% (" << std::setprecision(3)
+          << 100 * kept / std::max(1.0, owned) << "% of the families kept); " << sci(took, 3) << " s" << std::endl;
+  }
+
+  Adaptivity::Snapshot
+  Adaptivity::move_to_new_partition(Snapshot old)
+  {
+    // Each owned cell's share of the state packed for the rank that owns
+    // the cell after p4est partitioned the mesh by the cells' weights.
     Snapshot                               moved;
     moved.history.point_width = old.history.point_width;
     moved.history.bond_width  = old.history.bond_width;
@@ -631,7 +746,6 @@ namespace perideal
       },
       /*returns_variable_size_data=*/true);
     // The weights go into the mesh history (a restart partitions by them).
-    discretization.set_cell_weights();
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -643,10 +757,6 @@ namespace perideal
     // Packed and sent: the sender's copy is not needed while the moved one is built.
     old     = Snapshot();
     in_cell = std::vector<std::vector<unsigned int>>();
-    // The points that stay on this rank keep their families (no point moved
-    // in space); only those of the points that arrive are searched.
-    const OwnFamilies      own = take_own_families();
-    const PreviousFamilies keep = own.to_keep(discretization.cloud.max_cell_radius);
     std::vector<CellId> converted_ids;
     triangulation.notify_ready_to_unpack(handle,
                                          [&](const Triangulation<dim>::cell_iterator &cell,
@@ -658,17 +768,7 @@ namespace perideal
     finish_moved(moved);
     set_converted_after_rebalance(converted_ids);
     add_ghost_fe_cells(moved);
-
-    // The points, bonds and parts of the new partition, the state from what moved.
-    rebuild_and_restore(moved, time, &keep);
-    energies(); // the forces of the new numbering
-    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    record.conversion_seconds += took;
-    const double kept  = Utilities::MPI::sum(double(discretization.bonds.kept_families), comm);
-    const double owned = Utilities::MPI::sum(double(discretization.cloud.n_owned()), comm);
-    pcout << "Adaptivity: rebalanced, the work out of balance by " << sci(100 * imbalance, 3) << "% -> "
-          << sci(100 * discretization.work_imbalance(), 3) << "% (" << std::setprecision(3)
-          << 100 * kept / std::max(1.0, owned) << "% of the families kept); " << sci(took, 3) << " s" << std::endl;
+    return moved;
   }
 
   std::vector<char>
@@ -865,6 +965,23 @@ namespace perideal
     families.index_keys     = &keys;
     families.extra_reach    = extra_reach;
     families.nothing_moved  = true;
+    return families;
+  }
+
+  PreviousFamilies
+  Adaptivity::OwnFamilies::after_move(const Snapshot &moved, const double extra_reach) const
+  {
+    // The families of the points that stayed, as in a rebalance; where the
+    // conversion changed points is found against every point this rank owns
+    // now, as it was before (the moved snapshot), not against the points it
+    // owned: one that arrived from another rank did not change.
+    PreviousFamilies families = to_keep(extra_reach);
+    families.nothing_moved    = false;
+    families.compared_keys    = &moved.keys;
+    families.compared_order   = &moved.order;
+    families.positions        = &moved.position;
+    families.alpha            = &moved.alpha;
+    families.block            = &moved.block;
     return families;
   }
 

@@ -312,12 +312,12 @@ namespace perideal
   Discretization::compare_with_searched_families()
   {
     const auto         kept   = families_by_key();
-    const unsigned int n_kept = bonds.kept_families; // the log's share: what keeping kept (and was checked)
+    std::vector<std::uint8_t> kept_flags = bonds.kept; // the log's share: what keeping kept (and was checked)
     const PreviousFamilies *previous = previous_families;
     previous_families = nullptr;
     build_points_and_bonds();
-    previous_families   = previous;
-    bonds.kept_families = n_kept;
+    previous_families = previous;
+    bonds.kept        = std::move(kept_flags);
     const auto   searched  = families_by_key();
     std::vector<PointKey> different; // sorted, as the families are
     for (std::size_t k = 0; k < searched.size(); ++k)
@@ -453,8 +453,8 @@ namespace perideal
     // can change only within a search reach of a changed point.
     PreviousFamilies                   result = previous;
     std::vector<Point<dim>>            changed;
-    const std::vector<PointKey>       &keys  = *previous.keys;
-    const std::vector<unsigned int>   &order = *previous.order;
+    const std::vector<PointKey>     &keys  = previous.compared_keys != nullptr ? *previous.compared_keys : *previous.keys;
+    const std::vector<unsigned int> &order = previous.compared_order != nullptr ? *previous.compared_order : *previous.order;
     const unsigned int                 n     = cloud.n_owned();
     std::vector<PointKey>              now(cloud.key.begin(), cloud.key.begin() + n);
     std::sort(now.begin(), now.end());

@@ -191,7 +191,6 @@ namespace perideal
                 used[bonds.neighbor[b]] = true;
                 different_horizons |= block_reach[cloud.block[bonds.neighbor[b]]] != reach_i;
               }
-            ++bonds.kept_families;
             bonds.kept.resize(n_owned);
             bonds.kept[i] = 1;
             continue;

@@ -192,7 +192,42 @@ namespace perideal
       std::vector<unsigned int> neighbor; // indices into keys
       PreviousFamilies
       to_keep(const double extra_reach) const;
+      /// For a conversion that moved the points first: these families, the
+      /// changed points found against @p moved (the points this rank owns
+      /// now, before the conversion).
+      PreviousFamilies
+      after_move(const Snapshot &moved, const double extra_reach) const;
     };
+    /// A conversion that partitioned the mesh again before its rebuild.
+    struct Moved
+    {
+      bool        moved     = false;
+      double      imbalance = 0; // the work's, predicted for after the conversion
+      double      seconds   = 0; // the move's
+      double      reach     = 0; // the search's extra reach before the move
+      OwnFamilies own;           // the families this rank had
+    };
+    /// The state before a conversion whose cells are marked: as it is, or,
+    /// on several ranks with the work predicted out of balance by more than
+    /// Rebalance threshold, moved to the ranks of a partition by that work
+    /// (@p moved says so; one rebuild then serves both). Collective.
+    Snapshot
+    snapshot_for_conversion(Moved &moved);
+    /// Sets each owned cell's weight (user index) to the work it will have
+    /// after the conversion of the cells marked now: the points' bonds and a
+    /// few per point (Discretization::set_cell_weights()), a converting
+    /// cell's points (after their refinement) with the peridynamic block's
+    /// mean family; returns how far the largest rank's work exceeds the
+    /// mean. Collective.
+    double
+    predict_work_imbalance() const;
+    /// Moves each owned cell's share of @p old (its points, bonds with their
+    /// state, FE values and converted flag) to the rank that owns the cell
+    /// after p4est partitioned the mesh by the cells' weights (user
+    /// indices, recorded in the mesh history); returns what this rank
+    /// received. Collective.
+    Snapshot
+    move_to_new_partition(Snapshot old);
     /// Takes the rank's families out of the Discretization (which a rebuild
     /// makes anew) with its points' keys.
     OwnFamilies

@@ -33,11 +33,16 @@ namespace perideal
     static constexpr std::uint8_t own_half = 1, other_half = 2;
     /// The horizon of each block, as find_families() used them.
     std::vector<double> block_horizon;
-    /// The owned points that kept their families (find_families() with PreviousFamilies).
-    unsigned int kept_families = 0;
-    /// Per owned point, 1 if it kept its family: those bonds passed the
-    /// bond filters before, and need not again. Empty: none kept.
+    /// Per owned point, 1 if it kept its family (find_families() with
+    /// PreviousFamilies): those bonds passed the bond filters before, and
+    /// need not again. Empty: none kept.
     std::vector<std::uint8_t> kept;
+    /// The owned points that kept their families.
+    unsigned int
+    n_kept() const
+    {
+      return static_cast<unsigned int>(std::count(kept.begin(), kept.end(), std::uint8_t(1)));
+    }
 
     /// 1 if bond @p b is in its owner's family, else 0 (set-up and reporting).
     double
@@ -144,9 +149,15 @@ namespace perideal
     const std::vector<PointKey>     *keys      = nullptr; // the old owned points
     const std::vector<unsigned int> *order     = nullptr; // their indices, sorted by key
     const std::vector<std::size_t>  *offsets   = nullptr; // their families' ranges in neighbor_index
-    const std::vector<double>       *positions = nullptr; // dim per old owned point
-    const std::vector<double>       *alpha     = nullptr; // the blending weight per old owned point
-    const std::vector<unsigned int> *block     = nullptr; // per old owned point
+    // Where the points changed is found by comparing the new owned points
+    // with the old ones: these, or, after the points moved between ranks
+    // (a conversion that rebalances), compared_keys and compared_order,
+    // the points this rank owns now as they were before the change.
+    const std::vector<double>       *positions = nullptr; // dim per compared point
+    const std::vector<double>       *alpha     = nullptr; // the blending weight per compared point
+    const std::vector<unsigned int> *block     = nullptr; // per compared point
+    const std::vector<PointKey>     *compared_keys  = nullptr; // nullptr: keys
+    const std::vector<unsigned int> *compared_order = nullptr; // nullptr: order
     const std::vector<std::uint8_t> *complete  = nullptr; // per old owned point, 0: its family is not all there (nullptr: all are)
     double                           extra_reach = 0;     // the earlier search's (none kept if it differs)
     // Each bond's far end as an index into index_keys (the rank's points
