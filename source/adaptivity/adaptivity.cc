@@ -513,19 +513,22 @@ namespace perideal
     TimerOutput::Scope t(timer, "adaptivity");
     const auto         start = std::chrono::steady_clock::now();
     // 1. Where the indicator passes, on every rank.
-    const std::vector<Point<dim>> local = find_triggers();
-    std::vector<Point<dim>>       triggers;
-    for (const auto &part : Utilities::MPI::all_gather(comm, local))
-      triggers.insert(triggers.end(), part.begin(), part.end());
-    std::size_t marked = 0;
-    const double width = buffer_width(dt);
-    if (!triggers.empty())
-      marked = Utilities::MPI::sum(mark_cells(triggers, width), comm);
+    std::vector<Point<dim>> triggers;
+    std::size_t             marked = 0;
+    const double            width  = buffer_width(dt);
+    {
+      TimerOutput::Scope indicator(timer, "adaptivity: indicator");
+      for (const auto &part : Utilities::MPI::all_gather(comm, find_triggers()))
+        triggers.insert(triggers.end(), part.begin(), part.end());
+      if (!triggers.empty())
+        marked = Utilities::MPI::sum(mark_cells(triggers, width), comm);
+    }
     if (marked == 0)
       {
         record.conversion_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return false;
       }
+    TimerOutput::Scope conversion(timer, "adaptivity: conversion");
     // 2. The state before, by identity (moved to the ranks that own the
     // cells after the conversion if its work would be out of balance); the
     // converted cells refined; the new points, bonds and parts.

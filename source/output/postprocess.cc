@@ -530,6 +530,35 @@ namespace perideal
   }
 
   void
+  Postprocess::report_conversion_cost(const double loop_seconds, const unsigned int steps_done) const
+  {
+    // This run's timer (a continued run: since its restart), rank 0's.
+    const auto   seconds = timer.get_summary_data(TimerOutput::total_wall_time);
+    const auto   calls   = timer.get_summary_data(TimerOutput::n_calls);
+    const auto   get     = [](const auto &map, const std::string &name) {
+      const auto it = map.find(name);
+      return it == map.end() ? 0.0 : double(it->second);
+    };
+    const double checks      = get(seconds, "adaptivity");
+    const double conversions = get(calls, "adaptivity: conversion");
+    const double converting  = get(seconds, "adaptivity: conversion");
+    const double refinement  = get(seconds, "adaptivity: refinement");
+    const double moves       = get(seconds, "adaptivity: rebalance");
+    const double stepping    = loop_seconds - checks;
+    const double per_step    = steps_done > 0 ? stepping / steps_done : 0.0;
+    const auto s = [](const double x) { return sci(x, 3) + " s"; };
+    pcout << "  conversions' cost:      " << s(checks) << " of the " << s(loop_seconds) << " loop: the indicator "
+          << s(get(seconds, "adaptivity: indicator")) << " at " << get(calls, "adaptivity") << " checks";
+    if (conversions > 0)
+      pcout << ", " << conversions << " conversions " << s(converting) << " (refinement " << s(refinement)
+            << ", moves between ranks " << s(moves) << ", the points, bonds and parts and the state carried over "
+            << s(converting - refinement - moves) << "); one conversion " << s(converting / conversions)
+            << ", as long as " << std::lround(per_step > 0 ? converting / conversions / per_step : 0.0)
+            << " steps of " << s(per_step);
+    pcout << "\n";
+  }
+
+  void
   Postprocess::print_summary(const double loop_seconds, const unsigned int steps_done)
   {
     const double bonds_global = Utilities::MPI::sum(double(bonds.n_bonds()), comm);
@@ -566,6 +595,8 @@ namespace perideal
       pcout << "  adaptivity:             " << record.conversions << " conversions, " << std::setprecision(12)
             << record.converted_cells << " cells turned peridynamic, energy jumps " << sci(record.conversion_energy, 4)
             << " in all; " << format_seconds(record.conversion_seconds) << " in checks and conversions\n";
+    if (deck.adaptivity.active())
+      report_conversion_cost(loop_seconds, steps_done);
     const bool material_dissipation = model.field_store().tracks_dissipation();
     if (material_dissipation)
       pcout << "  material dissipation:   " << sci(record.material_dissipation, 6)

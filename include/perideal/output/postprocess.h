@@ -78,6 +78,12 @@ namespace perideal
     OutputWriter::ExodusMesh
     exodus_mesh() const;
 
+    /// The summary's line on an adaptive run's time (this run's timer):
+    /// the loop split into stepping, the indicator's checks and the
+    /// conversions, and one conversion against one step.
+    void
+    report_conversion_cost(const double loop_seconds, const unsigned int steps_done) const;
+
     /// Adds the rows of @p fragments to <base name>.fragments.csv and writes
     /// it whole (rank 0), as the other output files.
     void
