@@ -556,9 +556,21 @@ namespace perideal
   {
     filtered_bonds.assign(bond_filters.size(), 0);
     const bool periodic = cloud.periodicity.any();
+    // A family whose point lies farther from every filter than its longest
+    // bond can reach (the largest horizon and the search's extra reach)
+    // cannot be cut: its bonds are not tested one by one.
+    double longest = 0;
+    for (const double h : bonds.block_horizon)
+      longest = std::max(longest, h);
+    longest = (1 + 1e-6) * (longest * (1 + horizon_tolerance) + cloud.max_cell_radius);
+    std::vector<std::uint8_t> near(cloud.n_owned(), 1);
+    if (!periodic)
+      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+        near[i] = std::any_of(bond_filters.begin(), bond_filters.end(),
+                              [&](const BondFilter &f) { return f.distance(cloud.position(i)) <= longest; });
     bonds.keep_if(cloud.n_owned(), [&](const unsigned int i, const unsigned int j) {
-      if (!bonds.kept.empty() && bonds.kept[i])
-        return true; // cut before (filtered_bonds counts the searched families)
+      if (!near[i] || (!bonds.kept.empty() && bonds.kept[i]))
+        return true; // out of reach, or cut before (filtered_bonds counts the searched families)
       // Across a periodic face the bond has two images, one at each end's
       // face; either cut cuts it, so that both owners decide alike.
       const Point<dim> xi = cloud.position(i), xj = cloud.position(j);
@@ -596,7 +608,7 @@ namespace perideal
           if (bonds.offsets[i + 1] == bonds.offsets[i])
             {
               ++isolated;
-              first.consider(0, cloud.gid[i], &cloud.X[3 * i], BestPoint::Kind::point, cloud.block[i]);
+              first.consider(0, cloud.gid[i], &cloud.X[dim * i], BestPoint::Kind::point, cloud.block[i]);
             }
         }
     unsigned int counts[2] = {candidates, isolated};

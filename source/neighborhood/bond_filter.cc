@@ -66,4 +66,15 @@ namespace perideal
     const double     u = bottom * (q - corner), v = side * (q - corner);
     return u >= 0 && u <= bottom_length && v >= 0 && v <= side_length;
   }
+
+  double
+  BondFilter::distance(const Point<dim> &x) const
+  {
+    const Tensor<1, dim> d       = x - corner;
+    const auto           outside = [](const double t, const double length) {
+      return t < 0 ? -t : t > length ? t - length : 0.0;
+    };
+    const double u = outside(bottom * d, bottom_length), v = outside(side * d, side_length), w = normal * d;
+    return std::sqrt(u * u + v * v + w * w);
+  }
 } // namespace perideal

@@ -34,6 +34,10 @@ namespace perideal
     /// it included; a segment lying in its plane does not cut).
     bool
     cuts(const dealii::Point<dim> &a, const dealii::Point<dim> &b) const;
+    /// The distance from @p x to the rectangle: no segment from @p x
+    /// shorter than it can cut.
+    double
+    distance(const dealii::Point<dim> &x) const;
 
     std::string name;
 
