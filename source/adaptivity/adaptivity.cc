@@ -5,6 +5,7 @@
 #include <perideal/base/format.h>
 #include <perideal/continuum/coupling.h>
 #include <perideal/discretization/discretization.h>
+#include <perideal/geometry/hexahedron.h>
 #include <perideal/material/field_store.h>
 #include <perideal/model/block.h>
 #include <perideal/model/force_model.h>
@@ -627,7 +628,7 @@ namespace perideal
           cell->set_user_index(static_cast<unsigned int>(std::min(points * per_point, most)));
           converting.push_back(cell->center());
           reach[0] = std::max(reach[0], cell->diameter());
-          reach[1] = std::max(reach[1], -cell->measure() / points);
+          reach[1] = std::max(reach[1], -cell_volume(cell) / points);
         }
     Utilities::MPI::max(reach, comm, reach);
     std::vector<Point<dim>> all;
@@ -635,16 +636,16 @@ namespace perideal
       all.insert(all.end(), part.begin(), part.end());
     // The band's rule (Discretization::build_coupled_cloud()), the
     // converting cells' centres for their points.
-    const double serves = (discretization.blending() + (discretization.force_blending ? 2 : 1)) *
-                          discretization.blocks[discretization.converted_block].horizon;
-    const auto   tree = pack_rtree(all);
+    const double serves =
+      discretization.virtual_point_reach(discretization.blocks[discretization.converted_block].horizon);
+    const auto tree = pack_rtree(all);
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && cell->active_fe_index() > 0 && !converted[cell->active_cell_index()] &&
           !discretization.cell_virtual[cell->active_cell_index()])
         for (const auto &x : tree | bgi::adaptors::queried(bgi::nearest(cell->center(), 1)))
           if (x.distance(cell->center()) - 0.5 * (cell->diameter() + reach[0]) <= serves)
             {
-              const int levels = std::max(0, int(std::lround(std::log2(std::cbrt(cell->measure() / -reach[1])))));
+              const int    levels = discretization.virtual_levels(cell_volume(cell), -reach[1]);
               const double points = std::pow(double(GeometryInfo<dim>::max_children_per_cell), levels);
               cell->set_user_index(static_cast<unsigned int>(std::min(cell->user_index() + points * per_virtual, most)));
             }

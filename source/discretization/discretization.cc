@@ -478,11 +478,17 @@ namespace perideal
         }
     for (const auto &part : Utilities::MPI::all_gather(comm, changed))
       result.changed.insert(result.changed.end(), part.begin(), part.end());
+    result.radius = longest_bond(horizon);
+    return result;
+  }
+
+  double
+  Discretization::longest_bond(const std::vector<double> &horizon) const
+  {
     double largest = 0;
     for (const double h : horizon)
       largest = std::max(largest, h);
-    result.radius = (1 + 1e-6) * (largest * (1 + horizon_tolerance) + cloud.max_cell_radius);
-    return result;
+    return (1 + 1e-6) * (largest * (1 + horizon_tolerance) + cloud.max_cell_radius);
   }
 
   namespace
@@ -559,10 +565,7 @@ namespace perideal
     // A family whose point lies farther from every filter than its longest
     // bond can reach (the largest horizon and the search's extra reach)
     // cannot be cut: its bonds are not tested one by one.
-    double longest = 0;
-    for (const double h : bonds.block_horizon)
-      longest = std::max(longest, h);
-    longest = (1 + 1e-6) * (longest * (1 + horizon_tolerance) + cloud.max_cell_radius);
+    const double              longest = longest_bond(bonds.block_horizon);
     std::vector<std::uint8_t> near(cloud.n_owned(), 1);
     if (!periodic)
       for (unsigned int i = 0; i < cloud.n_owned(); ++i)
@@ -701,14 +704,8 @@ namespace perideal
           // evaluates the PD force at the band's nodes, and the neighbors in
           // their families need complete families of their own (an LPS
           // dilatation, a correspondence deformation gradient): two horizons.
-          const double serves = n.band + (force_blending ? 2 : 1) * n.horizon;
-          if (n.distance - 0.5 * cell->diameter() <= serves * (1 + 1e-9))
-            {
-              const double ratio  = std::cbrt(cell_volume(cell) / n.volume);
-              const int    levels = virtual_point_levels >= 0 ? virtual_point_levels :
-                                                                std::max(0, int(std::lround(std::log2(ratio))));
-              cell_virtual[cell->active_cell_index()] = 1 + levels;
-            }
+          if (n.distance - 0.5 * cell->diameter() <= virtual_point_reach(n.horizon) * (1 + 1e-9))
+            cell_virtual[cell->active_cell_index()] = 1 + virtual_levels(cell_volume(cell), n.volume);
         }
 
     cloud.build(dof_handler,

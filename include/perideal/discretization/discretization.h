@@ -26,6 +26,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <cmath>
 #include <vector>
 
 namespace perideal
@@ -96,6 +97,29 @@ namespace perideal
     {
       return blending_width;
     }
+    /// How far from the nearest PD point (of horizon @p horizon) an FE cell
+    /// holds virtual points: the blending band and a horizon beyond it (two
+    /// with force blending, whose node points need complete families).
+    double
+    virtual_point_reach(const double horizon) const
+    {
+      return blending_width * horizon + (force_blending ? 2 : 1) * horizon;
+    }
+    /// The levels of virtual points in an FE cell of volume @p cell_volume
+    /// near PD points of volume @p point_volume: Virtual point levels, or
+    /// (auto) those that put them at the PD spacing.
+    int
+    virtual_levels(const double cell_volume, const double point_volume) const
+    {
+      return virtual_point_levels >= 0 ?
+               virtual_point_levels :
+               std::max(0, int(std::lround(std::log2(std::cbrt(cell_volume / point_volume)))));
+    }
+    /// The longest bond find_families() can make: the largest horizon with
+    /// its tolerance plus the search's extra reach (the largest cell
+    /// radius), a millionth more.
+    double
+    longest_bond(const std::vector<double> &horizon) const;
     /// The horizon key of the block with the largest horizon, for messages.
     std::string
     horizon_key() const;
