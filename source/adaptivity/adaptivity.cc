@@ -107,9 +107,10 @@ namespace perideal
                       "before the next check. Given: at least the Peridynamic block's horizon.");
     prm.declare_entry("Check kept families", "false", Patterns::Bool(),
                       "After each conversion the points far from the changed ones keep their families "
-                      "instead of a new neighbour search (doc/adaptivity.md). true: search all of them again "
-                      "as well and stop with an Error if a kept family differs (for testing; a conversion "
-                      "then costs about twice).");
+                      "instead of a new neighbour search, and the FE cells far from the converted ones their "
+                      "coupling band (doc/adaptivity.md). true: search all of them again as well and stop "
+                      "with an Error if a kept family or band differs (for testing; a conversion then costs "
+                      "about twice).");
     prm.declare_entry("Buffer margin", "0", Patterns::Double(0),
                       "When a check finds a convertible cell within the buffer, the cells within the buffer "
                       "plus this distance convert with it: a crack that runs on finds its next cells "
@@ -534,12 +535,13 @@ namespace perideal
     // cells after the conversion if its work would be out of balance); the
     // converted cells refined; the new points, bonds and parts.
     const auto         before = energies();
+    const PreviousCoupling band   = coupling_before_conversion(triggers, width);
     Moved              moved;
     const Snapshot     old    = snapshot_for_conversion(moved);
     const unsigned int splits = parameters.refine ? refine_converted_cells() : 0;
     // 3. The state after: carried over, the new points from the FE field.
     const PreviousFamilies keep = moved.moved ? moved.own.after_move(old, moved.reach) : PreviousFamilies();
-    rebuild_and_restore(old, time, moved.moved ? &keep : nullptr);
+    rebuild_and_restore(old, time, band, moved.moved ? &keep : nullptr);
     moved.own = OwnFamilies();
     const auto   after = energies();
     // Without inertia a velocity is no motion (QuasiStatic's Velocity = load
@@ -572,6 +574,21 @@ namespace perideal
     if (parameters.rebalance > 0 && Utilities::MPI::n_mpi_processes(comm) > 1)
       rebalance(time);
     return true;
+  }
+
+  PreviousCoupling
+  Adaptivity::coupling_before_conversion(std::vector<Point<dim>> triggers, const double width) const
+  {
+    // A converted cell's centre lies within the buffer and margin of a
+    // trigger, and its points (after any refinement) within the cell.
+    double largest = 0;
+    for (const auto &cell : discretization.triangulation.active_cell_iterators())
+      if (cell->is_locally_owned() && discretization.converted[cell->active_cell_index()])
+        largest = std::max(largest, cell->diameter());
+    PreviousCoupling band = discretization.record_coupling();
+    band.centres          = std::move(triggers);
+    band.radius           = width + parameters.margin + Utilities::MPI::max(largest, comm);
+    return band;
   }
 
   Adaptivity::Snapshot
@@ -711,14 +728,15 @@ namespace perideal
     TimerOutput::Scope t(timer, "adaptivity: rebalance");
     const auto         start = std::chrono::steady_clock::now();
     discretization.set_cell_weights();
-    Snapshot moved = move_to_new_partition(take_snapshot(/*bonds_with_state_only=*/true));
+    const PreviousCoupling band  = discretization.record_coupling(); // no point appears: every cell that stays keeps it
+    Snapshot               moved = move_to_new_partition(take_snapshot(/*bonds_with_state_only=*/true));
     // The points that stay on this rank keep their families (no point moved
     // in space); only those of the points that arrive are searched.
     const OwnFamilies      own  = take_own_families();
     const PreviousFamilies keep = own.to_keep(discretization.cloud.max_cell_radius);
 
     // The points, bonds and parts of the new partition, the state from what moved.
-    rebuild_and_restore(moved, time, &keep);
+    rebuild_and_restore(moved, time, band, &keep);
     energies(); // the forces of the new numbering
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     record.conversion_seconds += took;
@@ -990,10 +1008,12 @@ namespace perideal
   }
 
   void
-  Adaptivity::rebuild_and_restore(const Snapshot &old, const double time, const PreviousFamilies *keep)
+  Adaptivity::rebuild_and_restore(const Snapshot &old, const double time, const PreviousCoupling &band,
+                                  const PreviousFamilies *keep)
   {
     const PreviousFamilies families  = keep != nullptr ? *keep : families_to_keep(old);
     discretization.previous_families = &families;
+    discretization.previous_coupling = &band;
     try
       {
         rebuild(time);
@@ -1001,9 +1021,11 @@ namespace perideal
     catch (...)
       {
         discretization.previous_families = nullptr;
+        discretization.previous_coupling = nullptr;
         throw;
       }
     discretization.previous_families = nullptr;
+    discretization.previous_coupling = nullptr;
     restore(old);
   }
 

@@ -55,7 +55,13 @@ namespace perideal
     , blending_width(deck.coupling.blending_width)
     , virtual_point_levels(deck.coupling.virtual_point_levels)
     , dry_run_mode(dry_run_mode)
-  {}
+  {
+    const auto forget = [this]() { cell_geometry.clear(); };
+    geometry_connections.emplace_back(triangulation.signals.any_change.connect(forget));
+    geometry_connections.emplace_back(triangulation.signals.post_distributed_refinement.connect(forget));
+    geometry_connections.emplace_back(triangulation.signals.post_distributed_repartition.connect(forget));
+    geometry_connections.emplace_back(triangulation.signals.post_distributed_load.connect(forget));
+  }
 
   void
   Discretization::check_region_expressions() const
@@ -308,21 +314,48 @@ namespace perideal
     return families;
   }
 
+  std::vector<std::pair<PointKey, std::vector<double>>>
+  Discretization::coupling_by_key() const
+  {
+    // Per owned point its blending weight; per owned FE cell (by its key)
+    // its FE weight and levels.
+    std::vector<std::pair<PointKey, std::vector<double>>> band;
+    if (!has_continuum)
+      return band;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      band.push_back({cloud.key[i], {point_alpha[i]}});
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        band.push_back({cell->id().template to_binary<dim>(),
+                        {-1.0, cell_fe_weight[cell->active_cell_index()], double(cell_virtual[cell->active_cell_index()])}});
+    std::sort(band.begin(), band.end());
+    return band;
+  }
+
   void
   Discretization::compare_with_searched_families()
   {
-    const auto         kept   = families_by_key();
+    const auto         kept      = families_by_key();
+    const auto         kept_band = coupling_by_key();
     std::vector<std::uint8_t> kept_flags = bonds.kept; // the log's share: what keeping kept (and was checked)
     const PreviousFamilies *previous = previous_families;
+    const PreviousCoupling *coupling = previous_coupling;
     previous_families = nullptr;
+    previous_coupling = nullptr;
     build_points_and_bonds();
     previous_families = previous;
+    previous_coupling = coupling;
     bonds.kept        = std::move(kept_flags);
     const auto   searched  = families_by_key();
     std::vector<PointKey> different; // sorted, as the families are
     for (std::size_t k = 0; k < searched.size(); ++k)
       if (k >= kept.size() || kept[k] != searched[k])
         different.push_back(searched[k].first);
+    const unsigned int band_differs = Utilities::MPI::sum(static_cast<unsigned int>(kept_band != coupling_by_key()), comm);
+    AssertThrow(band_differs == 0,
+                ExcMessage("Adaptivity/Check kept families: the coupling band kept through a conversion (the FE "
+                           "cells' weights and virtual points, the points' blending weights) differs from a new "
+                           "search on " + std::to_string(band_differs) + " ranks: the kept band is wrong"));
     BestPoint first(BestPoint::Order::smallest); // the differing point of the smallest id
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       if (std::binary_search(different.begin(), different.end(), cloud.key[i]))
@@ -655,16 +688,22 @@ namespace perideal
       if (cell->is_locally_owned() && cell->active_fe_index() > 0)
         largest_cell = std::max(largest_cell, cell->diameter());
     largest_cell         = Utilities::MPI::max(largest_cell, comm);
-    // Force blending's virtual points reach a horizon further (below).
+    // Force blending's virtual points reach a horizon further (below). An
+    // FE cell that keeps its band from before a conversion (kept_coupling())
+    // needs no probe.
+    const std::vector<unsigned int> kept  = kept_coupling(max_horizon);
+    const auto                      keeps = [&](const CellIterator &cell) {
+      return !kept.empty() && kept[cell->active_cell_index()] != numbers::invalid_unsigned_int;
+    };
     const int    probe = blocks.size();
     const double reach = (1 + blending_width + (force_blending ? 1 : 0)) * max_horizon + largest_cell;
     PointCloud   nearby;
     nearby.build(dof_handler,
                  [&](const CellIterator &cell) -> int {
                    const int b = block_of(cell);
-                   return b < 0 ? -1 : blocks[b].continuum ? probe : b;
+                   return b < 0 ? -1 : !blocks[b].continuum ? b : keeps(cell) ? -1 : probe;
                  },
-                 reach, comm, {}, force_blending);
+                 reach, comm, {}, force_blending, {}, &cell_geometry);
     std::vector<std::pair<Point<dim>, unsigned int>> pd;
     for (unsigned int i = 0; i < nearby.n_local(); ++i)
       if (nearby.block[i] != probe)
@@ -696,6 +735,13 @@ namespace perideal
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && cell->active_fe_index() > 0)
         {
+          if (keeps(cell))
+            {
+              const auto &before = previous_coupling->cells[kept[cell->active_cell_index()]];
+              cell_fe_weight[cell->active_cell_index()] = before.fe_weight;
+              cell_virtual[cell->active_cell_index()]   = before.levels;
+              continue;
+            }
           const Nearest n = nearest(cell->center());
           // Force blending weights forces, not the FE energy.
           cell_fe_weight[cell->active_cell_index()] = force_blending ? 1 : 1 - alpha(n);
@@ -705,7 +751,7 @@ namespace perideal
           // their families need complete families of their own (an LPS
           // dilatation, a correspondence deformation gradient): two horizons.
           if (n.distance - 0.5 * cell->diameter() <= virtual_point_reach(n.horizon) * (1 + 1e-9))
-            cell_virtual[cell->active_cell_index()] = 1 + virtual_levels(cell_volume(cell), n.volume);
+            cell_virtual[cell->active_cell_index()] = 1 + virtual_levels(cell_geometry(cell).second, n.volume);
         }
 
     cloud.build(dof_handler,
@@ -717,19 +763,98 @@ namespace perideal
                 [&](const CellIterator &cell) -> unsigned int {
                   return cell->active_fe_index() > 0 ? cell_virtual[cell->active_cell_index()] - 1 : 0;
                 },
-                scene.partial_volumes, force_blending ? make_node_points(nearby, probe, block_of, max_horizon) :
-                                                        std::vector<PointCloud::ExtraPoint>());
+                scene.partial_volumes,
+                force_blending ? make_node_points(nearby, probe, block_of, max_horizon) :
+                                 std::vector<PointCloud::ExtraPoint>(),
+                &cell_geometry);
     // Force blending: every point carries its full PD energy (the PD force
     // at a PD point or a node is the unweighted one).
+    // A kept cell's virtual points are made in the order they were (the
+    // lattice's), so their weights follow one after the other.
     point_alpha.assign(cloud.n_owned(), 1.0);
     if (!force_blending)
-      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      for (unsigned int i = 0, next = 0; i < cloud.n_owned(); ++i)
         if (blocks[cloud.block[i]].continuum)
-          point_alpha[i] = alpha(nearest(cloud.position(i)));
+          {
+            if (!keeps(cloud.cell[i]))
+              {
+                point_alpha[i] = alpha(nearest(cloud.position(i)));
+                continue;
+              }
+            const auto &before = previous_coupling->cells[kept[cloud.cell[i]->active_cell_index()]];
+            if (i == 0 || cloud.cell[i - 1] != cloud.cell[i])
+              next = before.first_alpha;
+            point_alpha[i] = previous_coupling->alpha[next++];
+          }
     node_points.clear();
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       if (cloud.is_extra(i))
         node_points.push_back(i);
+  }
+
+  PreviousCoupling
+  Discretization::record_coupling() const
+  {
+    PreviousCoupling before;
+    if (!has_continuum || force_blending)
+      return before;
+    // Each cell's virtual points follow one another in the cloud.
+    std::vector<unsigned int> first_point(triangulation.n_active_cells(), numbers::invalid_unsigned_int);
+    for (unsigned int i = cloud.n_owned(); i-- > 0;)
+      if (is_virtual(i))
+        first_point[cloud.cell[i]->active_cell_index()] = i;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        {
+          const unsigned int c = cell->active_cell_index();
+          before.cells.push_back({cell->id(), cell_fe_weight[c], cell_virtual[c], unsigned(before.alpha.size())});
+          if (cell_virtual[c] > 0)
+            {
+              const unsigned int n = 1u << (dim * (cell_virtual[c] - 1));
+              before.alpha.insert(before.alpha.end(), point_alpha.begin() + first_point[c],
+                                  point_alpha.begin() + first_point[c] + n);
+            }
+        }
+    std::sort(before.cells.begin(), before.cells.end());
+    return before;
+  }
+
+  std::vector<unsigned int>
+  Discretization::kept_coupling(const double max_horizon) const
+  {
+    std::vector<unsigned int> kept;
+    if (previous_coupling == nullptr || force_blending)
+      return kept;
+    // A cell keeps its band if no PD point can have appeared nearer to it
+    // than its band reaches: then either its nearest PD point is the one it
+    // had, or both that and the new one are too far to give it virtual
+    // points or a weight. The reach plus half a PD spacing (the distance
+    // is taken from the nearest point less half its spacing) plus half
+    // the cell (its diameter: the centre of a distorted cell may lie off
+    // its middle), bounded above with the largest PD cell.
+    double largest_pd_cell = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() == 0)
+        largest_pd_cell = std::max(largest_pd_cell, cell->diameter());
+    largest_pd_cell    = Utilities::MPI::max(largest_pd_cell, comm);
+    const double reach = (1 + 1e-6) * (virtual_point_reach(max_horizon) + largest_pd_cell) + previous_coupling->radius;
+    const auto   tree  = pack_rtree(previous_coupling->centres);
+    std::vector<Point<dim>> nearest; // reused
+    kept.assign(triangulation.n_active_cells(), numbers::invalid_unsigned_int);
+    const auto &cells = previous_coupling->cells;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        {
+          const PreviousCoupling::Cell key{cell->id(), 0, 0, 0};
+          const auto                   at = std::lower_bound(cells.begin(), cells.end(), key);
+          if (at == cells.end() || at->id != key.id)
+            continue; // new here: refined, or moved from another rank
+          nearest.clear();
+          tree.query(bgi::nearest(cell->center(), 1), std::back_inserter(nearest));
+          if (nearest.empty() || nearest[0].distance(cell->center()) > reach + cell->diameter())
+            kept[cell->active_cell_index()] = at - cells.begin();
+        }
+    return kept;
   }
 
   std::vector<PointCloud::ExtraPoint>

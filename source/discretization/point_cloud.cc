@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <limits>
 #include <numeric>
+#include <utility>
 
 namespace perideal
 {
@@ -34,6 +36,26 @@ namespace perideal
     return h;
   }
 
+  std::pair<Point<dim>, double>
+  CellGeometry::operator()(const CellIterator &cell)
+  {
+    const std::size_t n = cell->get_triangulation().n_active_cells();
+    if (data.size() != (dim + 1) * n)
+      data.assign((dim + 1) * n, std::numeric_limits<double>::quiet_NaN());
+    double *entry = &data[(dim + 1) * cell->active_cell_index()];
+    if (std::isnan(entry[dim]))
+      {
+        const Point<dim> x = cell_centroid(cell);
+        for (unsigned int d = 0; d < dim; ++d)
+          entry[d] = x[d];
+        entry[dim] = cell_volume(cell);
+      }
+    Point<dim> x;
+    for (unsigned int d = 0; d < dim; ++d)
+      x[d] = entry[d];
+    return {x, entry[dim]};
+  }
+
   void
   PointCloud::build(const DoFHandler<dim>                                   &dof_handler,
                     const std::function<int(const CellIterator &)>          &block_of,
@@ -41,8 +63,12 @@ namespace perideal
                     const MPI_Comm                                           comm,
                     const std::function<unsigned int(const CellIterator &)> &levels_of,
                     const bool                                               cell_geometry,
-                    const std::vector<ExtraPoint>                           &extra)
+                    const std::vector<ExtraPoint>                           &extra,
+                    CellGeometry                                            *geometry)
   {
+    const auto centroid_and_volume = [geometry](const CellIterator &c) -> std::pair<Point<dim>, double> {
+      return geometry != nullptr ? (*geometry)(c) : std::make_pair(cell_centroid(c), cell_volume(c));
+    };
     X.clear();
     volume.clear();
     block.clear();
@@ -69,10 +95,10 @@ namespace perideal
           const unsigned int levels = levels_of ? levels_of(c) : 0;
           if (levels == 0)
             {
-              const Point<dim> x = cell_centroid(c); // as Peridigm places an element's point
+              const auto [x, v] = centroid_and_volume(c); // the centroid, as Peridigm places an element's point
               for (unsigned int d = 0; d < dim; ++d)
                 X.push_back(x[d]);
-              volume.push_back(cell_volume(c));
+              volume.push_back(v);
               block.push_back(b);
               key.push_back(c->id().template to_binary<dim>());
               cell.push_back(c);
@@ -88,7 +114,7 @@ namespace perideal
           // The descendants r levels down, in lexicographic order of the
           // lattice; the child index of a hexahedron is ix + 2 iy + 4 iz.
           const unsigned int n          = 1u << levels;
-          const double       sub_volume = cell_volume(c) / std::pow(8.0, levels);
+          const double       sub_volume = centroid_and_volume(c).second / std::pow(8.0, levels);
           const CellId       id         = c->id();
           const MappingQ1<dim> mapping;
           const auto         parent     = id.get_child_indices();

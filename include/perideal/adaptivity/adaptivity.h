@@ -37,6 +37,7 @@
 namespace perideal
 {
   class Discretization;
+  struct PreviousCoupling;
   class ForceModel;
   class Coupling;
   class Postprocess;
@@ -178,10 +179,17 @@ namespace perideal
     unsigned int
     old_point(const Snapshot &old, const PointKey &key) const;
     /// The points, bonds and parts made again (the families far from the
-    /// changes kept from @p old, or those of @p keep), then restore(@p old).
-    /// Collective.
+    /// changes kept from @p old, or those of @p keep; the coupling band
+    /// far from them from @p band), then restore(@p old). Collective.
     void
-    rebuild_and_restore(const Snapshot &old, const double time, const PreviousFamilies *keep = nullptr);
+    rebuild_and_restore(const Snapshot &old, const double time, const PreviousCoupling &band,
+                        const PreviousFamilies *keep = nullptr);
+    /// The coupling band before the conversion of the cells marked now
+    /// (Discretization::record_coupling()), with where their points will
+    /// appear: within the buffer @p width, the margin and a converted
+    /// cell's diameter of one of @p triggers (every rank's). Collective.
+    PreviousCoupling
+    coupling_before_conversion(std::vector<dealii::Point<dim>> triggers, const double width) const;
     /// A rank's families as they are, the far ends by key (a rebalance keeps
     /// those of the points that stay).
     struct OwnFamilies

@@ -19,8 +19,11 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
+#include <deal.II/grid/cell_id.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/hp/fe_collection.h>
+
+#include <boost/signals2/connection.hpp>
 
 #include <functional>
 #include <map>
@@ -33,6 +36,32 @@ namespace perideal
 {
   struct Deck;
   struct ContactParameters;
+
+  /// The coupling band before a change of the mesh (Adaptivity): each
+  /// owned FE cell's FE weight, virtual point levels and its virtual
+  /// points' blending weights; and where peridynamic points may have
+  /// appeared since: within @p radius of one of @p centres (every rank's;
+  /// none: no point appeared, a rebalance). A cell farther from all of them
+  /// than the band can reach keeps its entry (build_coupled_cloud()).
+  struct PreviousCoupling
+  {
+    struct Cell
+    {
+      dealii::CellId id;
+      double         fe_weight;
+      unsigned char  levels;      // Discretization::cell_virtual
+      unsigned int   first_alpha; // its virtual points' weights: alpha[first_alpha, + 8^(levels - 1))
+      bool
+      operator<(const Cell &other) const
+      {
+        return id < other.id;
+      }
+    };
+    std::vector<Cell>               cells; // sorted by id
+    std::vector<double>             alpha;
+    std::vector<dealii::Point<dim>> centres;
+    double                          radius = 0;
+  };
 
   class Discretization
   {
@@ -120,6 +149,12 @@ namespace perideal
     /// radius), a millionth more.
     double
     longest_bond(const std::vector<double> &horizon) const;
+    /// The coupling band as it is now (PreviousCoupling; no centres yet),
+    /// to be set as previous_coupling around the next rebuild. Energy
+    /// blending only (force blending's node points are made again): empty
+    /// otherwise.
+    PreviousCoupling
+    record_coupling() const;
     /// The horizon key of the block with the largest horizon, for messages.
     std::string
     horizon_key() const;
@@ -168,18 +203,33 @@ namespace perideal
     // Set by Adaptivity around a rebuild: the families that points far
     // from the converted cells keep (find_families()); nullptr: search all.
     const PreviousFamilies *previous_families = nullptr;
+    // Set by Adaptivity around a rebuild: the coupling band the FE cells far
+    // from the converted ones keep (build_coupled_cloud()); nullptr: all
+    // cells find their nearest PD point again.
+    const PreviousCoupling *previous_coupling = nullptr;
     // Adaptivity/Check kept families: every rebuild with previous_families
-    // searches all families again and stops if a kept one differs.
+    // searches all families again (and finds the coupling band of every FE
+    // cell again) and stops if a kept one differs.
     bool check_kept_families = false;
 
   private:
     /// Per owned point, sorted by key: its key and its family's keys in order.
     std::vector<std::pair<PointKey, std::vector<PointKey>>>
     families_by_key() const;
+    /// Per owned point, and per owned FE cell (by its CellId's key), sorted:
+    /// the point's blending weight; the cell's -1, FE weight and levels.
+    std::vector<std::pair<PointKey, std::vector<double>>>
+    coupling_by_key() const;
     /// Builds the points and bonds again without previous_families and
-    /// stops with an Error if a family differs from the kept ones. Collective.
+    /// previous_coupling and stops with an Error if a family, an FE cell's
+    /// weight or levels or a point's blending weight differs from the kept
+    /// ones. Collective.
     void
     compare_with_searched_families();
+    /// Per active cell: the entry of previous_coupling an owned FE cell
+    /// keeps, or unsigned(-1) if its nearest PD point must be found again.
+    std::vector<unsigned int>
+    kept_coupling(const double max_horizon) const;
     /// @p previous with the changed points (every rank's) and the radius
     /// within which their families must be searched again. Collective.
     PreviousFamilies
@@ -245,5 +295,10 @@ namespace perideal
     double                      blending_width;
     int                         virtual_point_levels;
     bool                        dry_run_mode;
+    // The cells' centroids and volumes for build_coupled_cloud(), forgotten
+    // whenever the mesh changes (the connections, declared after it, are
+    // released first).
+    CellGeometry                                        cell_geometry;
+    std::vector<boost::signals2::scoped_connection>     geometry_connections;
   };
 } // namespace perideal

@@ -29,6 +29,27 @@ namespace perideal
   using CellIterator = dealii::DoFHandler<dim>::active_cell_iterator;
   using PointKey     = std::array<unsigned int, 4>;
 
+  /// Each active cell's centroid and volume (cell_centroid(),
+  /// cell_volume()), computed when first asked for and kept until clear():
+  /// the rebuilds of a run ask for the same cells' again (twice in a
+  /// coupled rebuild, and in every conversion that does not refine).
+  class CellGeometry
+  {
+  public:
+    /// Forgets every cell's: call it whenever the mesh changes.
+    void
+    clear()
+    {
+      data.clear();
+    }
+    /// @p cell's centroid and volume.
+    std::pair<dealii::Point<dim>, double>
+    operator()(const CellIterator &cell);
+
+  private:
+    std::vector<double> data; // per active cell: the centroid's dim coordinates, the volume (NaN: not yet)
+  };
+
   class PointCloud
   {
   public:
@@ -66,6 +87,8 @@ namespace perideal
      *
      * @p extra points follow the cells' points of this rank (with the cell
      * geometry, their cell's vertices).
+     *
+     * @p geometry, if given, supplies the cells' centroids and volumes.
      */
     void
     build(const dealii::DoFHandler<dim>                         &dof_handler,
@@ -74,7 +97,8 @@ namespace perideal
           const MPI_Comm                                          comm,
           const std::function<unsigned int(const CellIterator &)> &levels_of     = {},
           const bool                                               cell_geometry = false,
-          const std::vector<ExtraPoint>                           &extra         = {});
+          const std::vector<ExtraPoint>                           &extra         = {},
+          CellGeometry                                            *geometry      = nullptr);
 
     /**
      * Keep only the ghost candidates marked in @p used (indexed by local
