@@ -683,15 +683,20 @@ namespace perideal
   {
     // The PD points within reach of this rank's FE cells: one probe point per
     // FE cell makes the ghost exchange bring them.
-    double largest_cell = 0;
+    // The largest FE and PD cells, in one pass and one reduction.
+    double largest[2] = {0, 0};
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
-        largest_cell = std::max(largest_cell, cell->diameter());
-    largest_cell         = Utilities::MPI::max(largest_cell, comm);
+      if (cell->is_locally_owned())
+        {
+          double &of_kind = largest[cell->active_fe_index() > 0 ? 0 : 1];
+          of_kind         = std::max(of_kind, cell->diameter());
+        }
+    Utilities::MPI::max(ArrayView<const double>(largest, 2), comm, ArrayView<double>(largest, 2));
+    const double largest_cell = largest[0];
     // Force blending's virtual points reach a horizon further (below). An
     // FE cell that keeps its band from before a conversion (kept_coupling())
     // needs no probe.
-    const std::vector<unsigned int> kept  = kept_coupling(max_horizon);
+    const std::vector<unsigned int> kept  = kept_coupling(max_horizon, largest[1]);
     const auto                      keeps = [&](const CellIterator &cell) {
       return !kept.empty() && kept[cell->active_cell_index()] != numbers::invalid_unsigned_int;
     };
@@ -820,7 +825,7 @@ namespace perideal
   }
 
   std::vector<unsigned int>
-  Discretization::kept_coupling(const double max_horizon) const
+  Discretization::kept_coupling(const double max_horizon, const double largest_pd_cell) const
   {
     std::vector<unsigned int> kept;
     if (previous_coupling == nullptr || force_blending)
@@ -832,11 +837,6 @@ namespace perideal
     // is taken from the nearest point less half its spacing) plus half
     // the cell (its diameter: the centre of a distorted cell may lie off
     // its middle), bounded above with the largest PD cell.
-    double largest_pd_cell = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() == 0)
-        largest_pd_cell = std::max(largest_pd_cell, cell->diameter());
-    largest_pd_cell    = Utilities::MPI::max(largest_pd_cell, comm);
     const double reach = (1 + 1e-6) * (virtual_point_reach(max_horizon) + largest_pd_cell) + previous_coupling->radius;
     const auto   tree  = pack_rtree(previous_coupling->centres);
     std::vector<Point<dim>> nearest; // reused

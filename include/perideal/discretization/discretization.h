@@ -227,9 +227,10 @@ namespace perideal
     void
     compare_with_searched_families();
     /// Per active cell: the entry of previous_coupling an owned FE cell
-    /// keeps, or unsigned(-1) if its nearest PD point must be found again.
+    /// keeps, or unsigned(-1) if its nearest PD point must be found again
+    /// (@p largest_pd_cell: the largest PD cell's diameter, every rank's).
     std::vector<unsigned int>
-    kept_coupling(const double max_horizon) const;
+    kept_coupling(const double max_horizon, const double largest_pd_cell) const;
     /// @p previous with the changed points (every rank's) and the radius
     /// within which their families must be searched again. Collective.
     PreviousFamilies
