@@ -68,7 +68,9 @@ namespace perideal
                           "xi_p^2 xi_q^2 / |xi|^2 V_j: the continuum's over the family's deviatoric energy "
                           "density under pure shear (Le & Bobaru 2018's energy method). The dilatation "
                           "needs none: with the weighted volume m summed over the actual family it is "
-                          "exact under any isotropic expansion. Free at run time.");
+                          "exact under any isotropic expansion. Free at run time. A plate thinner than two "
+                          "horizons is too stiff in its plane with or without it (4 points thick, horizon "
+                          "4 h: 24% under uniaxial strain, 31% in shear; doc/models.md).");
       }
 
       void

@@ -50,9 +50,11 @@ namespace perideal
                           "Energy: scale each point's micromodulus by g = pi delta^4 / sum_j |xi| V_j, the "
                           "continuum's over its family's strain energy density under an isotropic expansion "
                           "(Le & Bobaru 2018's energy method): restores the stiffness a free surface cuts "
-                          "from a family (a plate a few points thick is otherwise 15-20% too soft) and the "
-                          "lattice sum's quadrature error. Bonds use (c_i + c_j)/2. The set-up cost is one "
-                          "pass over the bonds.");
+                          "from a family for that field, and the lattice sum's quadrature error. Other fields "
+                          "are not exact: a plate 4 points thick (horizon 4 h) becomes 22% too stiff under "
+                          "uniaxial strain in its plane and 25% in shear (31% and 29% too soft without; "
+                          "doc/models.md). Bonds use (c_i + c_j)/2. The set-up cost is one pass over the "
+                          "bonds.");
       }
 
       void
