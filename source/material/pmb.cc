@@ -24,9 +24,13 @@
 // 1/4 c eps^2 sum_j |xi_ij| V_j, the continuum's 9/2 K eps^2 = 1/4 c eps^2
 // pi delta^4, so c_i is scaled by g_i = pi delta^4 / sum_j |xi_ij| V_j and the
 // bond takes (c_i + c_j)/2 as across blocks.
+// The force loop evaluates a bond between two points of the block on the
+// rank once and adds it to both ends (pair_kernel(); doc/performance.md,
+// "Each pair once"); partial volumes and half bonds keep the directed loop.
 
 #include <perideal/material/elastic_constants.h>
 #include <perideal/material/material.h>
+#include <perideal/neighborhood/bond_pairs.h>
 
 #include <cmath>
 #include <cstring>
@@ -99,6 +103,12 @@ namespace perideal
       {
         // The neighbourhoods change with a rebuild (a conversion): decide again.
         uniform_known = false;
+        // Partial volumes and half bonds (mixed horizons) keep directed
+        // families: their two halves need not weigh the same.
+        if (state.bonds.volume_fraction.empty() && state.bonds.family.empty())
+          pairs.reinit(state.cloud, state.bonds, points, block);
+        else
+          pairs.clear();
         VectorType &c = state.fields.get("pmb_micromodulus");
         for (const unsigned int i : points)
           c.local_element(i) = micromodulus();
@@ -447,6 +457,12 @@ namespace perideal
       void
       kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
       {
+        if constexpr (!partial && !halves)
+          if (pairs.serves(points))
+            {
+              pair_kernel<uniform_c, mode, energy, periodic, heated>(state, points, c_field);
+              return;
+            }
         const Periodicity   box      = state.cloud.periodicity;
         const double       *X        = state.cloud.X.data();
         const double       *V        = state.cloud.volume.data();
@@ -507,6 +523,168 @@ namespace perideal
         if (breaks(mode))
           state.breaking->newly_broken += newly_broken;
       }
+
+      /// kernel() with each bond between two points of the list evaluated
+      /// once (BondPairs): at the end with the smaller key, its force k y
+      /// per unit volume added to i with V_j and taken from j with V_i, its
+      /// energy to both alike. A family that reaches outside the list takes
+      /// its bonds with a mask (Part).
+      template <bool uniform_c, BondDamage mode, bool energy, bool periodic, bool heated>
+      void
+      pair_kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
+      {
+        const auto [broken, damage, limit, limit_at] = bond_damage_view<mode>(state);
+        const PairData    data{state.cloud.periodicity, state.cloud.X.data(), state.cloud.volume.data(), state.u,
+                            state.bonds.neighbor.data(), state.cloud.block.data(), broken, damage, limit, limit_at,
+                            state.damage, c_field.begin(), micromodulus(), state.force, state.energy,
+                            state.thermal_strain, pairs.n_owned, pairs.block};
+        const std::size_t *offsets      = state.bonds.offsets.data();
+        std::size_t        newly_broken = 0;
+        for (std::size_t k = 0; k < points.size(); ++k)
+          {
+            const unsigned int i     = points[k];
+            const std::size_t  first = offsets[i], tail = first + pairs.upper[k], last = offsets[i + 1];
+            // A family that reaches outside the list: its head for i alone
+            // (no scatter), its tail masked.
+            const std::size_t broke =
+              pairs.mixed[k] ? pair_loop<Part::head, uniform_c, mode, energy, periodic, heated>(data, i, first, tail) +
+                                 pair_loop<Part::masked_tail, uniform_c, mode, energy, periodic, heated>(data, i, tail, last) :
+                               pair_loop<Part::tail, uniform_c, mode, energy, periodic, heated>(data, i, tail, last);
+            if (breaks(mode) && broke != 0)
+              break_other_halves(state, i, tail, last);
+            newly_broken += broke;
+          }
+        if (breaks(mode))
+          state.breaking->newly_broken += newly_broken;
+      }
+
+      /// What pair_loop() reads, gathered once per kernel call.
+      struct PairData
+      {
+        Periodicity           box;
+        const double         *X, *V, *u;
+        const unsigned int   *neighbor;
+        const unsigned short *block_of;
+        std::uint8_t         *broken;       // breaking modes
+        const std::uint8_t   *damage;       // binary damage (broken flags)
+        double                limit;        // the squared limit (StretchBreaking) ...
+        const double         *limit_at;     // ... or by the far end's block
+        const double         *d;            // continuous damage
+        const double         *c;
+        double                c_own;
+        double               *f, *energy_density;
+        const double         *eps_T;
+        unsigned int          n_owned, block;
+      };
+
+      /// Which bonds of a family pair_loop() takes: the tail of a family
+      /// inside the list (each bond for both ends), or of one that reaches
+      /// outside (for both ends where the far end is in the list, else for
+      /// i), or the head of one that reaches outside (for i where the far
+      /// end is outside the list, else for neither).
+      enum class Part
+      {
+        tail,
+        masked_tail,
+        head
+      };
+
+      /// The bonds [from, last) of point i, which are the @p part of its
+      /// family; returns the halves newly broken (two for a bond evaluated for
+      /// both ends).
+      template <Part part, bool uniform_c, BondDamage mode, bool energy, bool periodic, bool heated>
+      static std::size_t
+      pair_loop(const PairData &p, const unsigned int i, const std::size_t from, const std::size_t last)
+      {
+        constexpr bool masked = part != Part::tail, scatter = part != Part::head;
+        constexpr bool      by_block = mode == BondDamage::breaking_by_block;
+        const double       *X = p.X, *V = p.V, *u = p.u, *c = p.c, *d = p.d, *eps_T = p.eps_T, *limit_at = p.limit_at;
+        const unsigned int *neighbor = p.neighbor;
+        const std::uint8_t *damage   = p.damage;
+        std::uint8_t       *broken   = p.broken;
+        double             *f = p.f, *energy_density = p.energy_density;
+        const BondOrigin    origin(X, u, i);
+        const double        Vi = V[i];
+        double              fx = 0, fy = 0, fz = 0, w = 0;
+        std::size_t         newly = 0;
+        // Vectorized over the bonds with gathers of the far ends' data and
+        // scatters of their forces: no two bonds of a family share a far end,
+        // and a masked bond writes +0 to point i's own entry.
+  #pragma omp simd reduction(+ : fx, fy, fz, w, newly)
+        for (std::size_t b = from; b < last; ++b)
+          {
+            const unsigned int j = neighbor[b];
+            // The share of the bond's force each end takes: 1 or 0.
+            unsigned int on_i = 1, on_j = 1;
+            if constexpr (masked)
+              {
+                const unsigned int listed = j < p.n_owned && p.block_of[j] == p.block;
+                on_j                      = scatter ? listed : 0;
+                on_i                      = scatter ? 1 : 1 - listed;
+              }
+            double e[3], y[3];
+            bond_vectors<periodic>(X, u, j, origin, p.box, e, y);
+            const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
+            const double r0sq = ex * ex + ey * ey + ez * ez;
+            const double rsq  = dx * dx + dy * dy + dz * dz;
+            // Both ends decide alike (the same squares, bit for bit), so a
+            // head bond may break here too: its halves are counted where it
+            // is evaluated.
+            if (breaks(mode))
+              newly += (on_i + on_j) * break_if_overstretched(rsq, r0sq, by_block ? limit_at[j] : p.limit, broken[b]);
+            const double r0     = std::sqrt(r0sq);
+            const double r      = std::sqrt(rsq);
+            const double s      = heated ? (r - r0) / r0 - 0.5 * (eps_T[i] + eps_T[j]) : (r - r0) / r0;
+            const double cij    = uniform_c ? p.c_own : 0.5 * (c[i] + c[j]);
+            const double intact = mode == BondDamage::none       ? 1.0 :
+                                  mode == BondDamage::continuous ? 1.0 - d[b] :
+                                                                   1.0 - damage[b];
+            const double kb     = intact * cij * s / r;
+            // Selects, not products: a masked bond adds +0 even where its
+            // force is not finite (0 inf would be NaN).
+            const double ki = on_i != 0 ? kb * V[j] : 0.0, kj = on_j != 0 ? kb * Vi : 0.0;
+            const unsigned int target = masked && on_j == 0 ? i : j;
+            fx += ki * dx;
+            fy += ki * dy;
+            fz += ki * dz;
+            if constexpr (scatter)
+              {
+                f[3 * target] -= kj * dx;
+                f[3 * target + 1] -= kj * dy;
+                f[3 * target + 2] -= kj * dz;
+              }
+            if (energy)
+              {
+                const double wb = intact * 0.25 * cij * s * s * r0;
+                w += on_i != 0 ? wb * V[j] : 0.0;
+                if constexpr (scatter)
+                  energy_density[target] += on_j != 0 ? wb * Vi : 0.0;
+              }
+          }
+        f[3 * i] += fx;
+        f[3 * i + 1] += fy;
+        f[3 * i + 2] += fz;
+        if (energy)
+          energy_density[i] += w;
+        return newly;
+      }
+
+      /// A tail bond of point i to a point of the list that broke was
+      /// evaluated for both ends: break the far end's half too (rare: only
+      /// in a family where a bond broke this step).
+      void
+      break_other_halves(const ModelState &state, const unsigned int i, const std::size_t tail, const std::size_t last) const
+      {
+        std::uint8_t *broken = state.breaking->broken;
+        for (std::size_t b = tail; b < last; ++b)
+          {
+            const unsigned int j = state.bonds.neighbor[b];
+            if (broken[b] != 0 && j < pairs.n_owned && state.cloud.block[j] == pairs.block)
+              broken[BondPairs::reverse(state.cloud, state.bonds, i, j)] = 1;
+          }
+      }
+
+      BondPairs pairs;
     };
   } // namespace
 

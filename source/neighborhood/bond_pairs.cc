@@ -1,0 +1,65 @@
+// Each bond once: the tails of the families (bond_pairs.h).
+
+#include <perideal/neighborhood/bond_pairs.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <algorithm>
+
+namespace perideal
+{
+  using namespace dealii;
+
+  void
+  BondPairs::reinit(const PointCloud &cloud, const Bonds &bonds, const std::vector<unsigned int> &points,
+                    const unsigned int block_)
+  {
+    block   = block_;
+    n_owned = cloud.n_owned();
+    list    = points.data();
+    upper.resize(points.size());
+    mixed.resize(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k)
+      {
+        const unsigned int i     = points[k];
+        const std::size_t  first = bonds.offsets[i], last = bonds.offsets[i + 1];
+        std::size_t        b     = first;
+        while (b < last && cloud.key[bonds.neighbor[b]] < cloud.key[i])
+          ++b;
+        upper[k]         = static_cast<unsigned int>(b - first);
+        bool outside     = false;
+        bool sorted_tail = true;
+        for (std::size_t c = first; c < last; ++c)
+          {
+            const unsigned int j = bonds.neighbor[c];
+            outside |= j >= n_owned || cloud.block[j] != block;
+            sorted_tail &= (c < b) == (cloud.key[j] < cloud.key[i]);
+          }
+        // find_families() sorts each family by key and filters keep the
+        // order: a tail that is not the larger keys would evaluate some
+        // bonds twice and others never.
+        AssertThrow(sorted_tail, ExcInternalError());
+        mixed[k] = outside;
+      }
+  }
+
+  void
+  BondPairs::clear()
+  {
+    upper.clear();
+    mixed.clear();
+    list = nullptr;
+  }
+
+  std::size_t
+  BondPairs::reverse(const PointCloud &cloud, const Bonds &bonds, const unsigned int i, const unsigned int j)
+  {
+    const unsigned int *first = bonds.neighbor.data() + bonds.offsets[j];
+    const unsigned int *last  = bonds.neighbor.data() + bonds.offsets[j + 1];
+    const unsigned int *it    = std::lower_bound(first, last, i, [&](const unsigned int a, const unsigned int target) {
+      return cloud.key[a] < cloud.key[target];
+    });
+    AssertThrow(it != last && *it == i, ExcInternalError());
+    return it - bonds.neighbor.data();
+  }
+} // namespace perideal
