@@ -107,10 +107,12 @@ namespace perideal
                       "before the next check. Given: at least the Peridynamic block's horizon.");
     prm.declare_entry("Check kept families", "false", Patterns::Bool(),
                       "After each conversion the points far from the changed ones keep their families "
-                      "instead of a new neighbour search, and the FE cells far from the converted ones their "
-                      "coupling band (doc/adaptivity.md). true: search all of them again as well and stop "
-                      "with an Error if a kept family or band differs (for testing; a conversion then costs "
-                      "about twice).");
+                      "instead of a new neighbour search, the FE cells far from the converted ones their "
+                      "coupling band, the points whose neighbours kept their families their stable step, and "
+                      "the unchanged points their answers of the conditions' and computes' regions "
+                      "(doc/adaptivity.md). true: search, compute and ask all of them again as well and stop "
+                      "with an Error if a kept one differs (for testing; a conversion then costs about "
+                      "twice).");
     prm.declare_entry("Buffer margin", "0", Patterns::Double(0),
                       "When a check finds a convertible cell within the buffer, the cells within the buffer "
                       "plus this distance convert with it: a crack that runs on finds its next cells "
@@ -560,7 +562,8 @@ namespace perideal
           << (splits > 0 ? ", refined " + std::to_string(splits) + (splits == 1 ? " time" : " times") : std::string())
           << ", "
           << discretization.cloud.n_global() << " points, " << std::setprecision(12) << bonds
-          << " bonds (" << std::setprecision(3) << 100 * kept / std::max(1.0, owned) << "% of the families kept); ";
+          << " bonds (" << std::setprecision(3) << 100 * kept / std::max(1.0, owned) << "% of the families kept, "
+          << steps_carried() << "% of the stable steps); ";
     if (inertia)
       pcout << "kinetic " << sci(before.first, 6) << " -> " << sci(after.first, 6) << ", ";
     const double scale = (inertia ? std::abs(before.first) : 0.0) + std::abs(before.second);
@@ -574,6 +577,13 @@ namespace perideal
     if (parameters.rebalance > 0 && Utilities::MPI::n_mpi_processes(comm) > 1)
       rebalance(time);
     return true;
+  }
+
+  double
+  Adaptivity::steps_carried() const
+  {
+    const auto [carried, computed] = model.carried_steps();
+    return 100 * carried / std::max(1.0, carried + computed);
   }
 
   PreviousCoupling
@@ -744,7 +754,8 @@ namespace perideal
     const double owned = Utilities::MPI::sum(double(discretization.cloud.n_owned()), comm);
     pcout << "Adaptivity: rebalanced, the work out of balance by " << sci(100 * imbalance, 3) << "% -> "
           << sci(100 * discretization.work_imbalance(), 3) << "% (" << std::setprecision(3)
-          << 100 * kept / std::max(1.0, owned) << "% of the families kept); " << sci(took, 3) << " s" << std::endl;
+          << 100 * kept / std::max(1.0, owned) << "% of the families kept, " << steps_carried()
+          << "% of the stable steps); " << sci(took, 3) << " s" << std::endl;
   }
 
   Adaptivity::Snapshot

@@ -40,10 +40,15 @@ namespace perideal
             find_traction_faces(bc);
             continue;
           }
+        // The points as before a conversion where they are unchanged; the
+        // FE nodes asked again (deal.II numbers every DoF again).
+        std::vector<unsigned int> before;
+        for (const auto dof : bc.dofs)
+          if (dof < point_entries_then)
+            before.push_back(dof / dim);
         bc.dofs.clear();
-        for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-          if (!discretization.is_virtual(i) && discretization.in_region(bc.region, cloud.position(i), cloud.cell[i]))
-            bc.dofs.push_back(dim * i + bc.component);
+        for (const unsigned int i : discretization.points_in_region(bc.region, before))
+          bc.dofs.push_back(dim * i + bc.component);
         if (continuum)
           for (const auto &node : continuum->nodes)
             if (node.component == bc.component && discretization.in_region(bc.region, node.x, node.cell))
@@ -52,6 +57,7 @@ namespace perideal
           record.warnings.push_back("boundary condition '" + bc.name + "' acts on no point (region '" +
                              bc.region + "' is empty)");
       }
+    point_entries_then = state.point_entries();
   }
 
   void

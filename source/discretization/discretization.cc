@@ -63,6 +63,39 @@ namespace perideal
     geometry_connections.emplace_back(triangulation.signals.post_distributed_load.connect(forget));
   }
 
+  std::vector<unsigned int>
+  Discretization::points_in_region(const std::string &region, const std::vector<unsigned int> &before) const
+  {
+    // (previous_point is current only inside the rebuild that made it.)
+    const bool                carry = previous_families != nullptr && !previous_point.empty();
+    std::vector<std::uint8_t> was_in(carry && !before.empty() ? before.back() + 1 : 0, 0);
+    if (carry)
+      for (const unsigned int o : before)
+        was_in[o] = 1;
+    std::vector<unsigned int> points;
+    unsigned int              differ = 0;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!is_virtual(i))
+        {
+          // An extra point (force blending's node point) may sit in another cell than before.
+          const unsigned int o    = carry && !cloud.is_extra(i) ? previous_point[i] : numbers::invalid_unsigned_int;
+          const bool         kept = o != numbers::invalid_unsigned_int;
+          const bool         in   = kept ? o < was_in.size() && was_in[o] : in_region(region, cloud.position(i), cloud.cell[i]);
+          if (kept && check_kept_families && in != in_region(region, cloud.position(i), cloud.cell[i]))
+            ++differ;
+          if (in)
+            points.push_back(i);
+        }
+    if (carry && check_kept_families)
+      {
+        differ = Utilities::MPI::sum(differ, comm);
+        AssertThrow(differ == 0, ExcMessage("Adaptivity/Check kept families: region '" + region + "' carried over "
+                                            "through a conversion differs from a new test at " +
+                                            std::to_string(differ) + " points"));
+      }
+    return points;
+  }
+
   void
   Discretization::check_region_expressions() const
   {
@@ -338,6 +371,7 @@ namespace perideal
     const auto         kept      = families_by_key();
     const auto         kept_band = coupling_by_key();
     std::vector<std::uint8_t> kept_flags = bonds.kept; // the log's share: what keeping kept (and was checked)
+    std::vector<unsigned int> unchanged  = previous_point; // what the rebuild's later steps carry over (and check)
     const PreviousFamilies *previous = previous_families;
     const PreviousCoupling *coupling = previous_coupling;
     previous_families = nullptr;
@@ -346,6 +380,7 @@ namespace perideal
     previous_families = previous;
     previous_coupling = coupling;
     bonds.kept        = std::move(kept_flags);
+    previous_point    = std::move(unchanged);
     const auto   searched  = families_by_key();
     std::vector<PointKey> different; // sorted, as the families are
     for (std::size_t k = 0; k < searched.size(); ++k)
@@ -459,9 +494,17 @@ namespace perideal
       for (unsigned int b = 0; b < blocks.size(); ++b)
         horizon[b] = blocks[b].horizon, rigid[b] = blocks[b].rigid;
       PreviousFamilies previous;
-      if (previous_families != nullptr)
-        previous = previous_families->nothing_moved ? *previous_families :
-                                                      with_changed_points(*previous_families, horizon);
+      previous_point.clear();
+      if (previous_families != nullptr && previous_families->nothing_moved)
+        {
+          // A rebalance: a point that stayed on this rank is as it was.
+          previous = *previous_families;
+          previous_point.resize(cloud.n_owned());
+          for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+            previous_point[i] = find_by_key(*previous.keys, *previous.order, cloud.key[i]);
+        }
+      else if (previous_families != nullptr)
+        previous = with_changed_points(*previous_families, horizon);
       bonds = find_families(cloud, horizon, comm, cloud.max_cell_radius, rigid,
                             previous_families != nullptr ? &previous : nullptr);
       if (scene.partial_volumes)
@@ -479,7 +522,7 @@ namespace perideal
   }
 
   PreviousFamilies
-  Discretization::with_changed_points(const PreviousFamilies &previous, const std::vector<double> &horizon) const
+  Discretization::with_changed_points(const PreviousFamilies &previous, const std::vector<double> &horizon)
   {
     // A point changed if it is new, gone, moved, or changed block or
     // blending weight (which decides drop_unweighted_bonds()); a family
@@ -491,6 +534,7 @@ namespace perideal
     const unsigned int                 n     = cloud.n_owned();
     std::vector<PointKey>              now(cloud.key.begin(), cloud.key.begin() + n);
     std::sort(now.begin(), now.end());
+    previous_point.assign(n, numbers::invalid_unsigned_int);
     for (unsigned int i = 0; i < n; ++i)
       {
         const unsigned int old  = find_by_key(keys, order, cloud.key[i]);
@@ -500,6 +544,10 @@ namespace perideal
           same = (*previous.positions)[dim * old + d] == cloud.X[dim * i + d];
         if (!same)
           changed.push_back(cloud.position(i));
+        else // (after a move between ranks the compared points are not the rank's own)
+          previous_point[i] = previous.compared_keys == nullptr ?
+                                old :
+                                find_by_key(*previous.keys, *previous.order, cloud.key[i]);
       }
     for (unsigned int k = 0; k < keys.size(); ++k)
       if (!std::binary_search(now.begin(), now.end(), keys[k]))

@@ -482,6 +482,10 @@ namespace perideal
   {
     ModelState state{cloud, bonds, nullptr, mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
     double     local = std::numeric_limits<double>::max();
+    const std::vector<unsigned int> source = keeping_steps ? carried_step_sources() : std::vector<unsigned int>();
+    std::vector<double>             steps(keeping_steps ? cloud.n_owned() : 0, std::numeric_limits<double>::max());
+    double                          carried = 0;
+    unsigned int                    differ  = 0;
     // Constants each within double's range can still overflow in the force
     // law (K / horizon^4, sqrt(K / rho)): refuse them here, naming them,
     // before they surface as a blow-up blamed on the loading.
@@ -492,7 +496,8 @@ namespace perideal
         // Virtual points carry no mass (the FE nodes do); rigid points no stiffness (only contact).
         if (!b.points.empty() && !b.continuum && !b.rigid)
           {
-            const double dt_block = b.material->stable_time_step(state, b.points);
+            const double dt_block = keeping_steps ? block_step_by_point(state, b, source, steps, carried, differ) :
+                                                    b.material->stable_time_step(state, b.points);
             // The largest double: no point of the block has any stiffness.
             // (With contact its points may be particles without bonds.)
             bad[k] = !(dt_block > 0 && (dt_block < std::numeric_limits<double>::max() || contact));
@@ -500,6 +505,21 @@ namespace perideal
           }
       }
     Utilities::MPI::max(bad, comm, bad);
+    if (keeping_steps)
+      {
+        point_step = std::move(steps);
+        differ     = Utilities::MPI::sum(differ, comm);
+        AssertThrow(differ == 0,
+                    ExcMessage("Adaptivity/Check kept families: the stable step carried over through a conversion "
+                               "differs from a new one at " + std::to_string(differ) +
+                               " points: a point's step reads more than its own and its neighbors' families"));
+        double evaluated = 0;
+        for (const auto &b : blocks)
+          if (!b.continuum && !b.rigid)
+            evaluated += b.points.size();
+        n_carried_steps = Utilities::MPI::sum(carried, comm);
+        n_point_steps   = Utilities::MPI::sum(evaluated, comm) - n_carried_steps;
+      }
     const double fe = coupling ? coupling->continuum.stable_time_step() : std::numeric_limits<double>::max();
     for (unsigned int k = 0; k < blocks.size(); ++k)
       {
@@ -524,6 +544,57 @@ namespace perideal
           pd = 1 / std::sqrt(1 / (pd * pd) + 1 / (dt_contact * dt_contact));
       }
     return coupling ? std::min(pd, fe) : pd;
+  }
+
+  std::vector<unsigned int>
+  ForceModel::carried_step_sources() const
+  {
+    const PreviousFamilies *previous = discretization.previous_families;
+    const unsigned int      n        = cloud.n_owned();
+    std::vector<unsigned int> source(n, numbers::invalid_unsigned_int);
+    if (previous == nullptr) // the set-up, a restart: no step from before
+      return source;
+    // A point's step sums over its family the neighbors' family sums
+    // (micromodulus, weighted volume, dilatation coupling): it is the one
+    // from before if its own family and its neighbors' are.
+    const bool usable = !bonds.kept.empty() && !discretization.previous_point.empty() &&
+                        point_step.size() == previous->order->size();
+    VectorType kept(cloud.scalar_partitioner);
+    for (unsigned int i = 0; i < n; ++i)
+      kept.local_element(i) = usable && bonds.kept[i] ? 1.0 : 0.0;
+    kept.update_ghost_values();
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        bool all = kept.local_element(i) != 0;
+        for (std::size_t b = bonds.offsets[i]; all && b < bonds.offsets[i + 1]; ++b)
+          all = kept.local_element(bonds.neighbor[b]) != 0;
+        if (all) // (a kept family's point is unchanged: it has its index before)
+          source[i] = discretization.previous_point[i];
+      }
+    return source;
+  }
+
+  double
+  ForceModel::block_step_by_point(const ModelState &state, const Block &b, const std::vector<unsigned int> &source,
+                                  std::vector<double> &steps, double &carried, unsigned int &differ) const
+  {
+    std::vector<unsigned int> one(1);
+    double                    dt = std::numeric_limits<double>::max();
+    for (const unsigned int i : b.points)
+      {
+        one[0] = i;
+        if (source[i] != numbers::invalid_unsigned_int)
+          {
+            steps[i] = point_step[source[i]];
+            ++carried;
+            if (discretization.check_kept_families && b.material->stable_time_step(state, one) != steps[i])
+              ++differ;
+          }
+        else
+          steps[i] = b.material->stable_time_step(state, one);
+        dt = std::min(dt, steps[i]);
+      }
+    return dt;
   }
 
   double

@@ -131,10 +131,8 @@ namespace perideal
     const bool rebuild = setups++ > 0;
     for (auto &compute : computes)
       {
-        compute.points.clear();
-        for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-          if (!discretization.is_virtual(i) && discretization.in_region(compute.region, cloud.position(i), cloud.cell[i]))
-            compute.points.push_back(i);
+        // The points as before a conversion where they are unchanged.
+        compute.points = discretization.points_in_region(compute.region, compute.points);
         compute.nodes.clear();
         if (has_continuum)
           for (unsigned int k = 0; k < continuum->nodes.size(); ++k)

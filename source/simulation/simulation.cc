@@ -57,6 +57,8 @@ namespace perideal
     if (!deck.temperature.function.empty())
       model->set_temperature(std::make_unique<Expression>(deck.temperature.function, "Temperature/Function"),
                              deck.temperature.reference);
+    if (deck.adaptivity.active())
+      model->keep_point_steps(); // a conversion computes only the steps that changed
     model->setup();
     if (deck.has_continuum)
       {

@@ -184,6 +184,9 @@ namespace perideal
     void
     rebuild_and_restore(const Snapshot &old, const double time, const PreviousCoupling &band,
                         const PreviousFamilies *keep = nullptr);
+    /// The share of the points' stable steps the last rebuild carried over, in %.
+    double
+    steps_carried() const;
     /// The coupling band before the conversion of the cells marked now
     /// (Discretization::record_coupling()), with where their points will
     /// appear: within the buffer @p width, the margin and a converted

@@ -114,5 +114,8 @@ namespace perideal
     ContinuumField       *continuum = nullptr;
     const std::vector<double> *node_density = nullptr;
     const double              *fe_load      = nullptr; // the continuum's nodal load, if any
+    // The points' entries when setup() last ran: a condition's dofs below
+    // it are its points then (dim i + component), the rest its FE nodes.
+    std::size_t point_entries_then = 0;
   };
 } // namespace perideal

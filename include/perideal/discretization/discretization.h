@@ -102,6 +102,16 @@ namespace perideal
     {
       return region == "All" || regions.at(region)->contains(x, cell);
     }
+    /// The owned points in @p region, virtual points left out, in
+    /// increasing order. After a rebuild that knows previous_point, a point
+    /// that is there unchanged takes its answer from @p before (what this
+    /// call gave for the region before the rebuild, in the indices then)
+    /// instead of asking the region again: in or out depends only on the
+    /// point's place and cell. With Adaptivity/Check kept families every
+    /// point is asked as well, and a differing answer stops the run
+    /// (collective then).
+    std::vector<unsigned int>
+    points_in_region(const std::string &region, const std::vector<unsigned int> &before) const;
     /// Collective: stops if a region's expression was not finite at a point
     /// it was asked about (NaN would silently put the point inside).
     void
@@ -207,6 +217,12 @@ namespace perideal
     // from the converted ones keep (build_coupled_cloud()); nullptr: all
     // cells find their nearest PD point again.
     const PreviousCoupling *previous_coupling = nullptr;
+    // After a rebuild with previous_families, per owned point: its index
+    // before the rebuild if it was this rank's with the same key, block,
+    // blending weight and place, else numbers::invalid_unsigned_int (what
+    // depends only on these is carried over, not computed again). Empty:
+    // nothing known (the set-up, a restart).
+    std::vector<unsigned int> previous_point;
     // Adaptivity/Check kept families: every rebuild with previous_families
     // searches all families again (and finds the coupling band of every FE
     // cell again) and stops if a kept one differs.
@@ -233,8 +249,9 @@ namespace perideal
     kept_coupling(const double max_horizon, const double largest_pd_cell) const;
     /// @p previous with the changed points (every rank's) and the radius
     /// within which their families must be searched again. Collective.
+    /// Also fills previous_point.
     PreviousFamilies
-    with_changed_points(const PreviousFamilies &previous, const std::vector<double> &horizon) const;
+    with_changed_points(const PreviousFamilies &previous, const std::vector<double> &horizon);
 
     /// Size checks (size_check.cc): the built-in scene's cells, points and
     /// bonds before the mesh is made, and the mesh's (with the cells flagged

@@ -77,8 +77,26 @@ namespace perideal
     add_tangent(TangentRows &rows) const;
 
     /// The smallest stable explicit step over all points (and FE cells). Collective.
+    /// With keep_point_steps(), a rebuild that keeps families
+    /// (Discretization::previous_families) carries over the step of each
+    /// point whose family and whose neighbors' families it kept, and
+    /// computes only the others'.
     double
     stable_time_step();
+    /// Keeps each point's stable step for the rebuilds of a run with
+    /// Adaptivity (a scene without conversions keeps none). Call before setup().
+    void
+    keep_point_steps()
+    {
+      keeping_steps = true;
+    }
+    /// The points whose step the last stable_time_step() carried over and
+    /// those whose step it computed (every rank's; with keep_point_steps()).
+    std::pair<double, double>
+    carried_steps() const
+    {
+      return {n_carried_steps, n_point_steps};
+    }
 
     /// The points this rank has neglected so far (Critical damage to
     /// neglect material point): their bonds all broken.
@@ -290,6 +308,23 @@ namespace perideal
     /// every rank (both halves alike). Collective.
     void
     neglect_damaged_points();
+    // keep_point_steps(): the stable step per owned point (the largest
+    // double where it has none), and the counts of the last evaluation.
+    bool                keeping_steps = false;
+    std::vector<double> point_step;
+    double              n_carried_steps = 0, n_point_steps = 0;
+    /// Per owned point: its index before the rebuild if its stable step is
+    /// carried over (it and every neighbor kept their families), else
+    /// numbers::invalid_unsigned_int. Collective when a rebuild keeps families.
+    std::vector<unsigned int>
+    carried_step_sources() const;
+    /// Block @p b's smallest step, point by point into @p steps: carried
+    /// from point_step where @p source names the point before, else from
+    /// its material. Counts into @p carried and, with Adaptivity/Check
+    /// kept families, the carried steps that differ from a new one into @p differ.
+    double
+    block_step_by_point(const ModelState &state, const Block &b, const std::vector<unsigned int> &source,
+                        std::vector<double> &steps, double &carried, unsigned int &differ) const;
     /// The critical stretches of every block at the current time, into
     /// stretch_limits and the fused limits.
     void
