@@ -48,11 +48,28 @@ namespace perideal
     std::vector<std::uint8_t>  broken;    // per old bond (empty without damage)
     std::vector<double>        damage;    // per old bond (empty without continuous damage)
     // Per owned FE cell, sorted by CellId (a conversion may refine cells,
-    // which renumbers them): its DoFs' u and v before the conversion and
-    // its active FE index.
-    std::vector<CellId>              cell_id;
-    std::vector<std::vector<double>> cell_u, cell_v;
-    std::vector<unsigned int>        cell_fe;
+    // which renumbers them): its DoFs' u and v before the conversion, at
+    // [cell_start[k], cell_start[k + 1]) of cell_u and cell_v (one array
+    // for all cells, not one per cell), and its active FE index.
+    std::vector<CellId>       cell_id;
+    std::vector<std::size_t>  cell_start{0};
+    std::vector<double>       cell_u, cell_v;
+    std::vector<unsigned int> cell_fe;
+    /// Appends a cell's values (in cell_id's order).
+    void
+    add_cell(const CellId &id, const unsigned int fe_index, const double *u, const double *v, const std::size_t n)
+    {
+      cell_id.push_back(id);
+      cell_fe.push_back(fe_index);
+      cell_u.insert(cell_u.end(), u, u + n);
+      cell_v.insert(cell_v.end(), v, v + n);
+      cell_start.push_back(cell_u.size());
+    }
+    std::size_t
+    cell_dofs(const unsigned int k) const
+    {
+      return cell_start[k + 1] - cell_start[k];
+    }
     FieldStore::History              history; // the models' history per old owned point and bond
   };
   namespace
@@ -840,9 +857,9 @@ namespace perideal
     if (fe)
       {
         put(bytes, std::uint32_t(old.cell_fe[k]));
-        put(bytes, std::uint32_t(old.cell_u[k].size()));
-        put(bytes, old.cell_u[k].data(), old.cell_u[k].size());
-        put(bytes, old.cell_v[k].data(), old.cell_v[k].size());
+        put(bytes, std::uint32_t(old.cell_dofs(k)));
+        put(bytes, &old.cell_u[old.cell_start[k]], old.cell_dofs(k));
+        put(bytes, &old.cell_v[old.cell_start[k]], old.cell_dofs(k));
       }
     return bytes;
   }
@@ -883,10 +900,9 @@ namespace perideal
         moved.cell_id.push_back(cell->id());
         moved.cell_fe.push_back(in.get<std::uint32_t>());
         const unsigned int dofs = in.get<std::uint32_t>();
-        moved.cell_u.emplace_back();
-        moved.cell_v.emplace_back();
-        in.get(moved.cell_u.back(), dofs);
-        in.get(moved.cell_v.back(), dofs);
+        in.get(moved.cell_u, dofs);
+        in.get(moved.cell_v, dofs);
+        moved.cell_start.push_back(moved.cell_u.size());
       }
     AssertThrow(in.at == data.end(), ExcInternalError());
     return converted;
@@ -908,17 +924,16 @@ namespace perideal
     std::sort(by_id.begin(), by_id.end(),
               [&](const unsigned int a, const unsigned int b) { return moved.cell_id[a] < moved.cell_id[b]; });
     Snapshot sorted;
+    sorted.cell_u.reserve(moved.cell_u.size());
+    sorted.cell_v.reserve(moved.cell_v.size());
     for (const unsigned int k : by_id)
-      {
-        sorted.cell_id.push_back(moved.cell_id[k]);
-        sorted.cell_fe.push_back(moved.cell_fe[k]);
-        sorted.cell_u.push_back(std::move(moved.cell_u[k]));
-        sorted.cell_v.push_back(std::move(moved.cell_v[k]));
-      }
-    moved.cell_id = std::move(sorted.cell_id);
-    moved.cell_fe = std::move(sorted.cell_fe);
-    moved.cell_u  = std::move(sorted.cell_u);
-    moved.cell_v  = std::move(sorted.cell_v);
+      sorted.add_cell(moved.cell_id[k], moved.cell_fe[k], &moved.cell_u[moved.cell_start[k]],
+                      &moved.cell_v[moved.cell_start[k]], moved.cell_dofs(k));
+    moved.cell_id    = std::move(sorted.cell_id);
+    moved.cell_fe    = std::move(sorted.cell_fe);
+    moved.cell_start = std::move(sorted.cell_start);
+    moved.cell_u     = std::move(sorted.cell_u);
+    moved.cell_v     = std::move(sorted.cell_v);
   }
 
   void
@@ -953,8 +968,8 @@ namespace perideal
           return {};
         const std::size_t   k = it - moved.cell_id.begin();
         std::vector<double> data(1, moved.cell_fe[k]);
-        data.insert(data.end(), moved.cell_u[k].begin(), moved.cell_u[k].end());
-        data.insert(data.end(), moved.cell_v[k].begin(), moved.cell_v[k].end());
+        data.insert(data.end(), moved.cell_u.begin() + moved.cell_start[k], moved.cell_u.begin() + moved.cell_start[k + 1]);
+        data.insert(data.end(), moved.cell_v.begin() + moved.cell_start[k], moved.cell_v.begin() + moved.cell_start[k + 1]);
         return data;
       },
       [&](const Triangulation<dim>::active_cell_iterator &cell, const std::vector<double> &data) {
@@ -963,10 +978,7 @@ namespace perideal
     for (auto &[id, data] : ghosts)
       {
         const std::size_t n = (data.size() - 1) / 2;
-        moved.cell_id.push_back(id);
-        moved.cell_fe.push_back(static_cast<unsigned int>(data[0]));
-        moved.cell_u.emplace_back(data.begin() + 1, data.begin() + 1 + n);
-        moved.cell_v.emplace_back(data.begin() + 1 + n, data.end());
+        moved.add_cell(id, static_cast<unsigned int>(data[0]), &data[1], &data[1 + n], n);
       }
     finish_moved(moved); // CellId order again
   }
@@ -1156,15 +1168,19 @@ namespace perideal
       if (!cell->is_artificial() && cell->active_fe_index() > 0)
         cells.emplace_back(cell->id(), cell);
     std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+    std::vector<types::global_dof_index> dofs;
     for (const auto &[id, cell] : cells)
       {
-        Vector<double> u(cell->get_fe().n_dofs_per_cell()), v(u.size());
-        cell->get_dof_values(fe.U, u);
-        cell->get_dof_values(fe.V, v);
+        dofs.resize(cell->get_fe().n_dofs_per_cell());
+        cell->get_dof_indices(dofs);
         old.cell_id.push_back(id);
-        old.cell_u.emplace_back(u.begin(), u.end());
-        old.cell_v.emplace_back(v.begin(), v.end());
         old.cell_fe.push_back(cell->active_fe_index());
+        for (const auto dof : dofs)
+          {
+            old.cell_u.push_back(fe.U(dof));
+            old.cell_v.push_back(fe.V(dof));
+          }
+        old.cell_start.push_back(old.cell_u.size());
       }
     fe.V.zero_out_ghost_values();
     return old;
@@ -1193,8 +1209,8 @@ namespace perideal
       {
         const unsigned int d   = fe.system_to_component_index(j).first;
         const double       phi = fe.shape_value_component(j, unit, d);
-        uv[d] += phi * old.cell_u[k][j];
-        uv[dim + d] += phi * old.cell_v[k][j];
+        uv[d] += phi * old.cell_u[old.cell_start[k] + j];
+        uv[dim + d] += phi * old.cell_v[old.cell_start[k] + j];
       }
     return uv;
   }
@@ -1234,8 +1250,8 @@ namespace perideal
             {
               if (same)
                 {
-                  fe.U(dofs[j]) = old.cell_u[k][j];
-                  fe.V(dofs[j]) = old.cell_v[k][j];
+                  fe.U(dofs[j]) = old.cell_u[old.cell_start[k] + j];
+                  fe.V(dofs[j]) = old.cell_v[old.cell_start[k] + j];
                   continue;
                 }
               const Point<dim> x =
