@@ -23,21 +23,31 @@ namespace perideal
     std::vector<bool>                    seen(owned.n_elements(), false);
     std::vector<types::global_dof_index> dofs;
     std::vector<DoFNode>                 nodes;
+    // The components of one support point share its place: mapped once.
+    std::vector<Point<dim>>   support;
+    std::vector<std::uint8_t> mapped;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && (!selected || selected(cell)))
         {
           const auto &fe = cell->get_fe();
           dofs.resize(fe.n_dofs_per_cell());
           cell->get_dof_indices(dofs);
+          support.resize(dofs.size());
+          mapped.assign(dofs.size(), 0);
           for (unsigned int i = 0; i < dofs.size(); ++i)
             if (owned.is_element(dofs[i]))
               {
                 const unsigned int k = owned.index_within_set(dofs[i]);
                 if (!seen[k])
                   {
-                    seen[k] = true;
-                    nodes.push_back({k, fe.system_to_component_index(i).first,
-                                     mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i)), cell});
+                    seen[k]                     = true;
+                    const auto [component, base] = fe.system_to_component_index(i);
+                    if (!mapped[base])
+                      {
+                        support[base] = mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i));
+                        mapped[base]  = 1;
+                      }
+                    nodes.push_back({k, component, support[base], cell});
                   }
               }
         }
@@ -96,6 +106,7 @@ namespace perideal
   {
     comm                   = comm_;
     dofs_of_cells          = &dof_handler;
+    watch_mesh(dof_handler.get_triangulation());
     const IndexSet &owned  = dof_handler.locally_owned_dofs();
     IndexSet        relevant;
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
@@ -130,6 +141,30 @@ namespace perideal
     n_global_dofs = Utilities::MPI::sum(n_fe_dofs, comm);
   }
 
+  void
+  ContinuumField::watch_mesh(const Triangulation<dim> &triangulation)
+  {
+    if (watched != &triangulation)
+      {
+        mesh_connections.clear();
+        const auto forget = [this]() { known_cells.clear(); };
+        mesh_connections.emplace_back(triangulation.signals.any_change.connect(forget));
+        mesh_connections.emplace_back(triangulation.signals.post_distributed_refinement.connect(forget));
+        mesh_connections.emplace_back(triangulation.signals.post_distributed_repartition.connect(forget));
+        mesh_connections.emplace_back(triangulation.signals.post_distributed_load.connect(forget));
+        watched = &triangulation;
+        known_cells.clear();
+      }
+    known_cells.resize(triangulation.n_active_cells());
+  }
+
+  const ContinuumField::CellTerms *
+  ContinuumField::known_terms(const CellIterator &cell, const ContinuumModel &model) const
+  {
+    const KnownCell &known = known_cells[cell->active_cell_index()];
+    return known.model == &model && known.fe_index == cell->active_fe_index() ? known.terms : nullptr;
+  }
+
   bool
   ContinuumField::shapes_fit(const DoFHandler<dim>                                              &dof_handler,
                              const std::function<const ContinuumModel *(const CellIterator &)> &model_of) const
@@ -138,7 +173,7 @@ namespace perideal
     std::size_t                   bytes = kept_bytes;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
-        if (const ContinuumModel *model = model_of(cell))
+        if (const ContinuumModel *model = model_of(cell); model != nullptr && known_terms(cell, *model) == nullptr)
           {
             std::vector<double> key = shape_key(cell, *model);
             if (cell_terms.find(key) == cell_terms.end() && unknown.insert(std::move(key)).second)
@@ -194,23 +229,11 @@ namespace perideal
           // a locally refined box has a handful of shapes, and a conversion
           // (doc/adaptivity.md) finds them known. A mesh of distinct cells
           // keeps the first max_kept_bytes of them.
-          std::vector<double> key   = shape_key(cell, *model);
-          auto                known = cell_terms.find(key);
-          const CellTerms    *terms = known != cell_terms.end() ? &known->second : &computed;
-          if (known == cell_terms.end())
-            {
-              hp_values.reinit(cell);
-              const FEValues<dim> &fe_values = hp_values.get_present_fe_values();
-              model->cell_matrix(fe_values, computed.matrix);
-              model->cell_lumped_mass(fe_values, computed.mass);
-              computed.step = LinearElasticity::stable_time_step(computed.matrix, computed.mass);
-              const std::size_t bytes = sizeof(double) * (computed.matrix.n_elements() + computed.mass.size());
-              if (kept_bytes + bytes <= max_kept_bytes)
-                {
-                  kept_bytes += bytes;
-                  terms = &cell_terms.emplace(std::move(key), computed).first->second;
-                }
-            }
+          const CellTerms *terms = known_terms(cell, *model);
+          if (terms == nullptr)
+            terms = terms_by_shape(cell, *model, hp_values, computed);
+          known_cells[cell->active_cell_index()] = {terms != &computed ? terms : nullptr, model,
+                                                    cell->active_fe_index()};
           element_step = std::min(element_step, terms->step);
           dofs.resize(cell->get_fe().n_dofs_per_cell());
           cell->get_dof_indices(dofs);
@@ -224,6 +247,26 @@ namespace perideal
               hanging.distribute_local_to_global(weighted, dofs, K);
             }
         }
+  }
+
+  const ContinuumField::CellTerms *
+  ContinuumField::terms_by_shape(const CellIterator &cell, const ContinuumModel &model, hp::FEValues<dim> &hp_values,
+                                 CellTerms &computed)
+  {
+    std::vector<double> key   = shape_key(cell, model);
+    const auto          known = cell_terms.find(key);
+    if (known != cell_terms.end())
+      return &known->second;
+    hp_values.reinit(cell);
+    const FEValues<dim> &fe_values = hp_values.get_present_fe_values();
+    model.cell_matrix(fe_values, computed.matrix);
+    model.cell_lumped_mass(fe_values, computed.mass);
+    computed.step           = LinearElasticity::stable_time_step(computed.matrix, computed.mass);
+    const std::size_t bytes = sizeof(double) * (computed.matrix.n_elements() + computed.mass.size());
+    if (kept_bytes + bytes > max_kept_bytes)
+      return &computed;
+    kept_bytes += bytes;
+    return &cell_terms.emplace(std::move(key), computed).first->second;
   }
 
   void

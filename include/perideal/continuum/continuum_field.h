@@ -21,6 +21,8 @@
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
+#include <boost/signals2/connection.hpp>
+
 #include <functional>
 #include <map>
 #include <memory>
@@ -51,6 +53,12 @@ namespace perideal
 
     /// An owned DoF of an FE cell (for conditions and computes).
     using Node = DoFNode;
+
+    ContinuumField() = default;
+    // Not copied or moved: the mesh's signals call back into this object.
+    ContinuumField(const ContinuumField &) = delete;
+    ContinuumField &
+    operator=(const ContinuumField &) = delete;
 
     /// The cells for which @p model_of returns a model are the FE cells (an
     /// FE_Q(p)^dim element active on them); @p weight_of gives a cell's
@@ -172,6 +180,12 @@ namespace perideal
                   const std::function<const ContinuumModel *(const CellIterator &)> &model_of,
                   const std::function<double(const CellIterator &)>                    &weight_of);
 
+    /// The terms of @p cell's shape: kept ones, else computed (into
+    /// cell_terms, or into @p computed once max_kept_bytes are kept).
+    const CellTerms *
+    terms_by_shape(const CellIterator &cell, const ContinuumModel &model, dealii::hp::FEValues<dim> &hp_values,
+                   CellTerms &computed);
+
     /// K's sparsity pattern, entries zero. Collective.
     void
     make_matrix();
@@ -207,6 +221,26 @@ namespace perideal
     /// matrices (4.6 KiB each for FE_Q(1) in 3D, 51 KiB for FE_Q(2)).
     std::map<std::vector<double>, CellTerms> cell_terms;
     std::size_t                              kept_bytes = 0;
+    /// Per active cell: the kept terms it had at the last set-up, its model
+    /// and element then (a conversion's set-up finds them without making
+    /// its shape's key again). Forgotten whenever the mesh changes (the
+    /// triangulation's signals), as the cells' numbers do.
+    struct KnownCell
+    {
+      const CellTerms      *terms    = nullptr;
+      const ContinuumModel *model    = nullptr;
+      unsigned int          fe_index = 0;
+    };
+    std::vector<KnownCell>                          known_cells;
+    std::vector<boost::signals2::scoped_connection> mesh_connections;
+    const dealii::Triangulation<dim>               *watched = nullptr;
+    /// The kept terms @p cell had at the last set-up with the same model
+    /// and element, or nullptr.
+    const CellTerms *
+    known_terms(const CellIterator &cell, const ContinuumModel &model) const;
+    /// Forgets known_cells when @p triangulation changes (connects once).
+    void
+    watch_mesh(const dealii::Triangulation<dim> &triangulation);
 
     MPI_Comm                                                 comm = MPI_COMM_SELF;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner;
