@@ -1169,18 +1169,16 @@ namespace perideal
         cells.emplace_back(cell->id(), cell);
     std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
     std::vector<types::global_dof_index> dofs;
+    std::vector<double>                  u, v;
     for (const auto &[id, cell] : cells)
       {
         dofs.resize(cell->get_fe().n_dofs_per_cell());
         cell->get_dof_indices(dofs);
-        old.cell_id.push_back(id);
-        old.cell_fe.push_back(cell->active_fe_index());
-        for (const auto dof : dofs)
-          {
-            old.cell_u.push_back(fe.U(dof));
-            old.cell_v.push_back(fe.V(dof));
-          }
-        old.cell_start.push_back(old.cell_u.size());
+        u.resize(dofs.size());
+        v.resize(dofs.size());
+        for (unsigned int j = 0; j < dofs.size(); ++j)
+          u[j] = fe.U(dofs[j]), v[j] = fe.V(dofs[j]);
+        old.add_cell(id, cell->active_fe_index(), u.data(), v.data(), dofs.size());
       }
     fe.V.zero_out_ghost_values();
     return old;

@@ -146,13 +146,8 @@ namespace perideal
   {
     if (watched != &triangulation)
       {
-        mesh_connections.clear();
-        const auto forget = [this]() { known_cells.clear(); };
-        mesh_connections.emplace_back(triangulation.signals.any_change.connect(forget));
-        mesh_connections.emplace_back(triangulation.signals.post_distributed_refinement.connect(forget));
-        mesh_connections.emplace_back(triangulation.signals.post_distributed_repartition.connect(forget));
-        mesh_connections.emplace_back(triangulation.signals.post_distributed_load.connect(forget));
-        watched = &triangulation;
+        mesh_connections = on_mesh_change(triangulation, [this]() { known_cells.clear(); });
+        watched          = &triangulation;
         known_cells.clear();
       }
     known_cells.resize(triangulation.n_active_cells());

@@ -56,11 +56,7 @@ namespace perideal
     , virtual_point_levels(deck.coupling.virtual_point_levels)
     , dry_run_mode(dry_run_mode)
   {
-    const auto forget = [this]() { cell_geometry.clear(); };
-    geometry_connections.emplace_back(triangulation.signals.any_change.connect(forget));
-    geometry_connections.emplace_back(triangulation.signals.post_distributed_refinement.connect(forget));
-    geometry_connections.emplace_back(triangulation.signals.post_distributed_repartition.connect(forget));
-    geometry_connections.emplace_back(triangulation.signals.post_distributed_load.connect(forget));
+    geometry_connections = on_mesh_change(triangulation, [this]() { cell_geometry.clear(); });
   }
 
   std::vector<unsigned int>

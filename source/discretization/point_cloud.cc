@@ -36,6 +36,17 @@ namespace perideal
     return h;
   }
 
+  std::vector<boost::signals2::scoped_connection>
+  on_mesh_change(const Triangulation<dim> &triangulation, const std::function<void()> &forget)
+  {
+    std::vector<boost::signals2::scoped_connection> connections;
+    connections.emplace_back(triangulation.signals.any_change.connect(forget));
+    connections.emplace_back(triangulation.signals.post_distributed_refinement.connect(forget));
+    connections.emplace_back(triangulation.signals.post_distributed_repartition.connect(forget));
+    connections.emplace_back(triangulation.signals.post_distributed_load.connect(forget));
+    return connections;
+  }
+
   std::pair<Point<dim>, double>
   CellGeometry::operator()(const CellIterator &cell)
   {

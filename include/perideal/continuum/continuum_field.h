@@ -21,8 +21,6 @@
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
-#include <boost/signals2/connection.hpp>
-
 #include <functional>
 #include <map>
 #include <memory>

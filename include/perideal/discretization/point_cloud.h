@@ -18,6 +18,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/dofs/dof_handler.h>
 
+#include <boost/signals2/connection.hpp>
+
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -28,6 +30,13 @@ namespace perideal
 {
   using CellIterator = dealii::DoFHandler<dim>::active_cell_iterator;
   using PointKey     = std::array<unsigned int, 4>;
+
+  /// Calls @p forget whenever the cells of @p triangulation change (created,
+  /// refined, coarsened, partitioned again or loaded): what is kept per
+  /// active cell is stale then. The connections end with the returned
+  /// objects.
+  std::vector<boost::signals2::scoped_connection>
+  on_mesh_change(const dealii::Triangulation<dim> &triangulation, const std::function<void()> &forget);
 
   /// Each active cell's centroid and volume (cell_centroid(),
   /// cell_volume()), computed when first asked for and kept until clear():
