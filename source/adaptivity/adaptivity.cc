@@ -353,7 +353,7 @@ namespace perideal
       centre.push_back(QMidpoint<dim>());
     hp::FEValues<dim> values(discretization.fe, centre, update_gradients);
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+      if (cell->is_locally_owned() && discretization.is_fe_cell(cell))
         {
           const int b = discretization.block_of_cell(cell);
           if (std::find(parameters.convertible.begin(), parameters.convertible.end(), b) !=
@@ -661,11 +661,18 @@ namespace perideal
     const double per_virtual = sums[3] > 0 ? sums[2] / sums[3] + 4 : per_point;
     const double most        = 4e9; // a cell's weight is an unsigned int
 
+    // The converted cells without a PD point yet convert now (the earlier
+    // converted ones keep their FE index: is_fe_cell()).
     const std::vector<std::uint8_t> &converted = discretization.converted;
-    std::vector<Point<dim>>          converting; // the owned converting cells' centres, then every rank's
-    double                           reach[2] = {0, -std::numeric_limits<double>::max()}; // largest diameter, -smallest point volume
+    std::vector<std::uint8_t>        holds_point(discretization.triangulation.n_active_cells(), 0);
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (!discretization.is_virtual(i) && !cloud.is_extra(i))
+        holds_point[cloud.cell[i]->active_cell_index()] = 1;
+    std::vector<Point<dim>> converting; // the owned converting cells' centres, then every rank's
+    double                  reach[2] = {0, -std::numeric_limits<double>::max()}; // largest diameter, -smallest point volume
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && converted[cell->active_cell_index()] && cell->active_fe_index() > 0)
+      if (cell->is_locally_owned() && converted[cell->active_cell_index()] && cell->active_fe_index() > 0 &&
+          !holds_point[cell->active_cell_index()])
         {
           const int    levels = parameters.refine ? std::max(0, target_level - cell->level()) : 0;
           const double points = std::pow(double(GeometryInfo<dim>::max_children_per_cell), levels);
@@ -684,7 +691,7 @@ namespace perideal
       discretization.virtual_point_reach(discretization.blocks[discretization.converted_block].horizon);
     const auto tree = pack_rtree(all);
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0 && !converted[cell->active_cell_index()] &&
+      if (cell->is_locally_owned() && discretization.is_fe_cell(cell) && !converted[cell->active_cell_index()] &&
           !discretization.cell_virtual[cell->active_cell_index()])
         for (const auto &x : tree | bgi::adaptors::queried(bgi::nearest(cell->center(), 1)))
           if (x.distance(cell->center()) - 0.5 * (cell->diameter() + reach[0]) <= serves)
@@ -1165,7 +1172,7 @@ namespace perideal
     fe.V.update_ghost_values();
     std::vector<std::pair<CellId, CellIterator>> cells;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (!cell->is_artificial() && cell->active_fe_index() > 0)
+      if (!cell->is_artificial() && discretization.was_fe_cell(cell))
         cells.emplace_back(cell->id(), cell);
     std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
     std::vector<types::global_dof_index> dofs;
@@ -1228,7 +1235,7 @@ namespace perideal
     ContinuumField                              &fe = coupling.continuum;
     std::vector<std::pair<CellId, CellIterator>> cells;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-      if (!cell->is_artificial() && cell->active_fe_index() > 0)
+      if (!cell->is_artificial() && discretization.is_fe_cell(cell))
         cells.emplace_back(cell->id(), cell);
     std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) { return b.first < a.first; });
     std::vector<types::global_dof_index> dofs;

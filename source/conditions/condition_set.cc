@@ -72,7 +72,7 @@ namespace perideal
     bc.dofs.clear();
     if (continuum != nullptr)
       for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        if (cell->is_locally_owned() && discretization.is_fe_cell(cell))
           for (const unsigned int f : cell->face_indices())
             if (selected(cell, f))
               bc.faces.emplace_back(cell, f);
@@ -80,7 +80,7 @@ namespace perideal
     // FE face carried: a cell that converts keeps its load.
     bc.point_faces.clear();
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      if (!discretization.is_virtual(i) && !cloud.is_extra(i) && cloud.cell[i]->active_fe_index() == 0)
+      if (!discretization.is_virtual(i) && !cloud.is_extra(i) && !discretization.is_fe_cell(cloud.cell[i]))
         for (const unsigned int f : cloud.cell[i]->face_indices())
           if (selected(cloud.cell[i], f))
             bc.point_faces.push_back({i, cloud.cell[i]->face(f)->measure(), cloud.cell[i]->face(f)->center()});

@@ -26,31 +26,35 @@ namespace perideal
     // The components of one support point share its place: mapped once.
     std::vector<Point<dim>>   support;
     std::vector<std::uint8_t> mapped;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && (!selected || selected(cell)))
-        {
-          const auto &fe = cell->get_fe();
-          dofs.resize(fe.n_dofs_per_cell());
-          cell->get_dof_indices(dofs);
-          support.resize(dofs.size());
-          mapped.assign(dofs.size(), 0);
-          for (unsigned int i = 0; i < dofs.size(); ++i)
-            if (owned.is_element(dofs[i]))
-              {
-                const unsigned int k = owned.index_within_set(dofs[i]);
-                if (!seen[k])
-                  {
-                    seen[k]                     = true;
-                    const auto [component, base] = fe.system_to_component_index(i);
-                    if (!mapped[base])
-                      {
-                        support[base] = mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i));
-                        mapped[base]  = 1;
-                      }
-                    nodes.push_back({k, component, support[base], cell});
-                  }
-              }
-        }
+    // The owned cells first, then the ghost ones: a DoF this rank owns may
+    // lie on ghost FE cells only, where the owned cells beside them have
+    // converted (they keep their FE_Q DoFs: Discretization::is_fe_cell()).
+    for (const bool owned_cells : {true, false})
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() == owned_cells && !cell->is_artificial() && (!selected || selected(cell)))
+          {
+            const auto &fe = cell->get_fe();
+            dofs.resize(fe.n_dofs_per_cell());
+            cell->get_dof_indices(dofs);
+            support.resize(dofs.size());
+            mapped.assign(dofs.size(), 0);
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              if (owned.is_element(dofs[i]))
+                {
+                  const unsigned int k = owned.index_within_set(dofs[i]);
+                  if (!seen[k])
+                    {
+                      seen[k]                     = true;
+                      const auto [component, base] = fe.system_to_component_index(i);
+                      if (!mapped[base])
+                        {
+                          support[base] = mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i));
+                          mapped[base]  = 1;
+                        }
+                      nodes.push_back({k, component, support[base], cell});
+                    }
+                }
+          }
     return nodes;
   }
 
@@ -115,10 +119,7 @@ namespace perideal
       v->reinit(partitioner);
     load.reinit(0);
 
-    hanging.clear();
-    hanging.reinit(relevant);
-    DoFTools::make_hanging_node_constraints(dof_handler, hanging);
-    hanging.close();
+    make_hanging_constraints(dof_handler, model_of, relevant);
 
     by_cell = Utilities::MPI::min(shapes_fit(dof_handler, model_of) ? 1u : 0u, comm) == 1;
     K.clear();
@@ -139,6 +140,44 @@ namespace perideal
     std::sort(free.begin(), free.end());
     const types::global_dof_index n_fe_dofs = nodes.size();
     n_global_dofs = Utilities::MPI::sum(n_fe_dofs, comm);
+  }
+
+  void
+  ContinuumField::make_hanging_constraints(const DoFHandler<dim>                                              &dof_handler,
+                                           const std::function<const ContinuumModel *(const CellIterator &)> &model_of,
+                                           const IndexSet                                                     &relevant)
+  {
+    hanging.clear();
+    hanging.reinit(relevant);
+    AffineConstraints<double> all(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, all);
+    if (all.n_constraints() == 0)
+      return hanging.close();
+    // deal.II constrains a fine cell's DoFs on the face of a coarser cell
+    // that has FE_Q DoFs. A converted cell keeps its FE_Q DoFs (the
+    // numbering holds through conversions: Discretization::is_fe_cell()),
+    // but as a PD cell it constrains nothing: the fine FE cells' DoFs on its
+    // faces stay free, as where a cell was PD (FE_DGQ(0)) from the start.
+    std::set<types::global_dof_index>    by_fe, by_pd;
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial() && model_of(cell) != nullptr)
+        for (const unsigned int f : cell->face_indices())
+          if (!cell->at_boundary(f) && cell->neighbor_is_coarser(f) && !cell->neighbor(f)->is_artificial() &&
+              cell->neighbor(f)->active_fe_index() > 0)
+            {
+              auto &by = model_of(cell->neighbor(f)) != nullptr ? by_fe : by_pd;
+              dofs.resize(cell->get_fe().n_dofs_per_face(f));
+              cell->face(f)->get_dof_indices(dofs, cell->active_fe_index());
+              by.insert(dofs.begin(), dofs.end());
+            }
+    for (const auto &line : all.get_lines())
+      if (by_pd.count(line.index) == 0 || by_fe.count(line.index) > 0)
+        {
+          hanging.add_line(line.index);
+          hanging.add_entries(line.index, line.entries);
+        }
+    hanging.close();
   }
 
   void

@@ -22,7 +22,7 @@ namespace perideal
       discretization.dof_handler,
       [&](const CellIterator &cell) -> const ContinuumModel * {
         // FE cells: the continuum block that claims them.
-        return cell->active_fe_index() == 0 ? nullptr : blocks[discretization.block_of_cell(cell)].continuum_model.get();
+        return !discretization.is_fe_cell(cell) ? nullptr : blocks[discretization.block_of_cell(cell)].continuum_model.get();
       },
       [&](const CellIterator &cell) { return cell_fe_weight[cell->active_cell_index()]; },
       comm);

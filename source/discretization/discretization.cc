@@ -56,7 +56,10 @@ namespace perideal
     , virtual_point_levels(deck.coupling.virtual_point_levels)
     , dry_run_mode(dry_run_mode)
   {
-    geometry_connections = on_mesh_change(triangulation, [this]() { cell_geometry.clear(); });
+    geometry_connections = on_mesh_change(triangulation, [this]() {
+      cell_geometry.clear();
+      dofs_numbered = false;
+    });
   }
 
   std::vector<unsigned int>
@@ -106,6 +109,12 @@ namespace perideal
   {
     if (!converted.empty() && converted[cell->active_cell_index()])
       return converted_block;
+    return claiming_block(cell);
+  }
+
+  int
+  Discretization::claiming_block(const CellIterator &cell) const
+  {
     for (unsigned int b = 0; b < blocks.size(); ++b)
       {
         const Block &block = blocks[b];
@@ -119,6 +128,26 @@ namespace perideal
           return b;
       }
     return -1;
+  }
+
+  void
+  Discretization::number_dofs()
+  {
+    // A cell's element is its block's as the deck claims it, converted or
+    // not: the numbering of a mesh holds through its conversions
+    // (is_fe_cell() tells the converted cells). deal.II numbers every DoF
+    // again when one cell's element changes, three times as long with two
+    // elements as with one (hp unification), about 0.3 s at 100,000 cells.
+    if (dofs_numbered)
+      return;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const int b = claiming_block(cell);
+          cell->set_active_fe_index(b >= 0 && blocks[b].continuum ? blocks[b].fe_degree : 0);
+        }
+    dof_handler.distribute_dofs(fe);
+    dofs_numbered = true;
   }
 
   void
@@ -354,7 +383,7 @@ namespace perideal
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       band.push_back({cloud.key[i], {point_alpha[i]}});
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+      if (cell->is_locally_owned() && is_fe_cell(cell))
         band.push_back({cell->id().template to_binary<dim>(),
                         {-1.0, cell_fe_weight[cell->active_cell_index()], double(cell_virtual[cell->active_cell_index()])}});
     std::sort(band.begin(), band.end());
@@ -443,13 +472,7 @@ namespace perideal
       TimerOutput::Scope t(timer, "setup: mesh and points");
 
       const auto block_of = [this](const CellIterator &cell) { return block_of_cell(cell); };
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            const int b = block_of(cell);
-            cell->set_active_fe_index(b >= 0 && blocks[b].continuum ? blocks[b].fe_degree : 0);
-          }
-      dof_handler.distribute_dofs(fe);
+      number_dofs();
 
       double max_horizon = 0;
       for (const auto &b : blocks)
@@ -515,6 +538,7 @@ namespace perideal
       if (!initial_damage.empty())
         apply_initial_damage();
     }
+    converted_when_built = converted;
   }
 
   PreviousFamilies
@@ -732,7 +756,7 @@ namespace perideal
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          double &of_kind = largest[cell->active_fe_index() > 0 ? 0 : 1];
+          double &of_kind = largest[is_fe_cell(cell) ? 0 : 1];
           of_kind         = std::max(of_kind, cell->diameter());
         }
     Utilities::MPI::max(ArrayView<const double>(largest, 2), comm, ArrayView<double>(largest, 2));
@@ -782,7 +806,7 @@ namespace perideal
     cell_fe_weight.assign(triangulation.n_active_cells(), 1.0);
     cell_virtual.assign(triangulation.n_active_cells(), 0);
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+      if (cell->is_locally_owned() && is_fe_cell(cell))
         {
           if (keeps(cell))
             {
@@ -810,7 +834,7 @@ namespace perideal
                 },
                 max_horizon, comm,
                 [&](const CellIterator &cell) -> unsigned int {
-                  return cell->active_fe_index() > 0 ? cell_virtual[cell->active_cell_index()] - 1 : 0;
+                  return is_fe_cell(cell) ? cell_virtual[cell->active_cell_index()] - 1 : 0;
                 },
                 scene.partial_volumes,
                 force_blending ? make_node_points(nearby, probe, block_of, max_horizon) :
@@ -853,7 +877,7 @@ namespace perideal
       if (is_virtual(i))
         first_point[cloud.cell[i]->active_cell_index()] = i;
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+      if (cell->is_locally_owned() && was_fe_cell(cell))
         {
           const unsigned int c = cell->active_cell_index();
           before.cells.push_back({cell->id(), cell_fe_weight[c], cell_virtual[c], unsigned(before.alpha.size())});
@@ -887,7 +911,7 @@ namespace perideal
     kept.assign(triangulation.n_active_cells(), numbers::invalid_unsigned_int);
     const auto &cells = previous_coupling->cells;
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+      if (cell->is_locally_owned() && is_fe_cell(cell))
         {
           const PreviousCoupling::Cell key{cell->id(), 0, 0, 0};
           const auto                   at = std::lower_bound(cells.begin(), cells.end(), key);
@@ -956,40 +980,55 @@ namespace perideal
     std::vector<PointCloud::ExtraPoint>  points;
     node_point_dofs.clear();
     node_point_alpha.clear();
+    // The owned FE cells near PD points, then the ghost FE cells for the
+    // owned DoFs on no owned FE cell (beside owned converted cells, which
+    // keep their FE_Q DoFs: is_fe_cell()). Such a node lies on a PD cell.
+    std::vector<std::uint8_t> on_owned_cells(owned.n_elements(), 0);
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->active_fe_index() > 0 && cell_virtual[cell->active_cell_index()])
+      if (cell->is_locally_owned() && is_fe_cell(cell))
         {
-          const auto &fe = cell->get_fe();
-          dofs.resize(fe.n_dofs_per_cell());
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
           cell->get_dof_indices(dofs);
-          const double size = cell->minimum_vertex_distance();
-          for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
-            {
-              // One point per node: its x component's DoF stands for it.
-              const auto [component, base] = fe.system_to_component_index(i);
-              if (component != 0 || !owned.is_element(dofs[i]) || hanging.is_constrained(dofs[i]) ||
-                  !done.insert(dofs[i]).second)
-                continue;
-              const Point<dim> x = mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i));
-              const double     a = weight(x, size);
-              if (a == 0)
-                continue;
-              // A key no cell has, the same on any number of ranks.
-              std::uint64_t h = 0;
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  std::uint64_t bits;
-                  std::memcpy(&bits, &x[d], sizeof bits);
-                  h = mix64(h ^ bits);
-                }
-              const std::uint64_t h2 = mix64(h);
-              points.push_back({x, cell_volume(cell) / fe.n_dofs_per_cell(), static_cast<unsigned short>(block_of(cell)),
-                                PointKey{{PointCloud::extra_key, unsigned(h), unsigned(h >> 32), unsigned(h2)}}, cell});
-              for (unsigned int d = 0; d < dim; ++d)
-                node_point_dofs.push_back(dofs[fe.component_to_system_index(d, base)]);
-              node_point_alpha.push_back(a);
-            }
+          for (const auto dof : dofs)
+            if (owned.is_element(dof))
+              on_owned_cells[owned.index_within_set(dof)] = 1;
         }
+    for (const bool owned_cells : {true, false})
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (!cell->is_artificial() && cell->is_locally_owned() == owned_cells && is_fe_cell(cell) &&
+            (!owned_cells || cell_virtual[cell->active_cell_index()]))
+          {
+            const auto &fe = cell->get_fe();
+            dofs.resize(fe.n_dofs_per_cell());
+            cell->get_dof_indices(dofs);
+            const double size = cell->minimum_vertex_distance();
+            for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+              {
+                // One point per node: its x component's DoF stands for it.
+                const auto [component, base] = fe.system_to_component_index(i);
+                if (component != 0 || !owned.is_element(dofs[i]) || hanging.is_constrained(dofs[i]) ||
+                    (!owned_cells && on_owned_cells[owned.index_within_set(dofs[i])]) || !done.insert(dofs[i]).second)
+                  continue;
+                const Point<dim> x = mapping.transform_unit_to_real_cell(cell, fe.unit_support_point(i));
+                const double     a = weight(x, size);
+                if (a == 0)
+                  continue;
+                // A key no cell has, the same on any number of ranks.
+                std::uint64_t h = 0;
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    std::uint64_t bits;
+                    std::memcpy(&bits, &x[d], sizeof bits);
+                    h = mix64(h ^ bits);
+                  }
+                const std::uint64_t h2 = mix64(h);
+                points.push_back({x, cell_volume(cell) / fe.n_dofs_per_cell(), static_cast<unsigned short>(block_of(cell)),
+                                  PointKey{{PointCloud::extra_key, unsigned(h), unsigned(h >> 32), unsigned(h2)}}, cell});
+                for (unsigned int d = 0; d < dim; ++d)
+                  node_point_dofs.push_back(dofs[fe.component_to_system_index(d, base)]);
+                node_point_alpha.push_back(a);
+              }
+          }
     return points;
   }
 

@@ -290,11 +290,13 @@ namespace perideal
     std::vector<std::unique_ptr<VectorType>>     vector_storage;
     std::vector<OutputWriter::VectorField>       vector_fields;
     std::vector<types::global_dof_index>         dofs(dim);
+    const DoFHandler<dim>                       &written    = written_dofs();
+    const bool                                   renumbered = &written != &discretization.dof_handler;
     // On FE cells a vector takes its nodal values, with the ghosts the FE
     // cells' output needs.
     IndexSet relevant;
     if (has_continuum)
-      DoFTools::extract_locally_relevant_dofs(discretization.dof_handler, relevant);
+      DoFTools::extract_locally_relevant_dofs(written, relevant);
     // A symmetric tensor's 9 components from its 6 (xx yy zz xy yz xz).
     static constexpr unsigned int symmetric[9] = {0, 3, 5, 3, 1, 4, 5, 4, 2};
     for (const auto &[name, documentation, field] : fields)
@@ -316,23 +318,32 @@ namespace perideal
         }
       else
         {
-          vector_storage.push_back(
-            has_continuum ? std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), relevant, comm) :
-                            std::make_unique<VectorType>(discretization.dof_handler.locally_owned_dofs(), comm));
+          vector_storage.push_back(has_continuum ?
+                                     std::make_unique<VectorType>(written.locally_owned_dofs(), relevant, comm) :
+                                     std::make_unique<VectorType>(written.locally_owned_dofs(), comm));
           VectorType &out = *vector_storage.back();
           for (unsigned int i = 0; i < n; ++i)
             if (!discretization.is_virtual(i))
               {
-                cloud.cell[i]->get_dof_indices(dofs);
+                on(written, cloud.cell[i])->get_dof_indices(dofs);
                 for (unsigned int d = 0; d < dim; ++d)
                   out(dofs[d]) = field->value(data, i, d);
               }
           if (has_continuum)
             {
+              VectorType  fe_numbered;
+              VectorType &fe = renumbered ? fe_numbered : out;
+              if (renumbered)
+                fe_numbered.reinit(continuum->U); // its layout, zeroed
               for (unsigned int k = 0; k < continuum->nodes.size(); ++k)
-                out.local_element(continuum->nodes[k].local) = field->node_value(data, k);
-              continuum->hanging.distribute(out);
-              out.update_ghost_values();
+                fe.local_element(continuum->nodes[k].local) = field->node_value(data, k);
+              continuum->hanging.distribute(fe);
+              fe.update_ghost_values();
+              if (renumbered)
+                {
+                  copy_fe_values(fe, written, out);
+                  out.update_ghost_values();
+                }
             }
           vector_fields.emplace_back(name, &out);
         }
@@ -343,10 +354,10 @@ namespace perideal
       written_cells[cloud.cell[i]->active_cell_index()] = true;
     if (has_continuum)
       for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        if (cell->is_locally_owned() && discretization.is_fe_cell(cell))
           written_cells[cell->active_cell_index()] = true;
-    const OutputWriter::ExodusMesh exodus_mesh = output.exodus ? this->exodus_mesh() : OutputWriter::ExodusMesh();
-    output.write_fields(discretization.dof_handler, written_cells, cell_fields, vector_fields, step + step_offset,
+    const OutputWriter::ExodusMesh exodus_mesh = output.exodus ? this->exodus_mesh(written) : OutputWriter::ExodusMesh();
+    output.write_fields(written, written_cells, cell_fields, vector_fields, step + step_offset,
                         time, comm, &exodus_mesh, row);
     // After the step's field files, before its globals row (README, Output).
     if (output.fragments)
@@ -355,8 +366,53 @@ namespace perideal
       output.write_globals(row, comm);
   }
 
+  const DoFHandler<dim> &
+  Postprocess::written_dofs()
+  {
+    const std::vector<std::uint8_t> &converted = discretization.converted;
+    if (!Utilities::MPI::logical_or(std::find(converted.begin(), converted.end(), 1) != converted.end(), comm))
+      return discretization.dof_handler;
+    if (own_written_dofs == nullptr)
+      {
+        own_written_dofs = std::make_unique<DoFHandler<dim>>(discretization.triangulation);
+        written_dofs_connections =
+          on_mesh_change(discretization.triangulation, [this]() { written_dofs_numbered = false; });
+      }
+    if (Utilities::MPI::logical_or(!written_dofs_numbered || written_dofs_converted != converted, comm))
+      {
+        for (const auto &cell : own_written_dofs->active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const CellIterator fe_cell = on(discretization.dof_handler, cell);
+              cell->set_active_fe_index(discretization.is_fe_cell(fe_cell) ? fe_cell->active_fe_index() : 0);
+            }
+        own_written_dofs->distribute_dofs(discretization.fe);
+        written_dofs_converted = converted;
+        written_dofs_numbered  = true;
+      }
+    return *own_written_dofs;
+  }
+
+  void
+  Postprocess::copy_fe_values(const VectorType &fe, const DoFHandler<dim> &dofs, VectorType &out) const
+  {
+    // Each owned DoF lies on an owned cell of its rank.
+    std::vector<types::global_dof_index> from, to;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && discretization.is_fe_cell(cell))
+        {
+          from.resize(cell->get_fe().n_dofs_per_cell());
+          to.resize(from.size());
+          cell->get_dof_indices(from);
+          on(dofs, cell)->get_dof_indices(to);
+          for (unsigned int j = 0; j < from.size(); ++j)
+            if (out.in_local_range(to[j]))
+              out(to[j]) = fe(from[j]);
+        }
+  }
+
   OutputWriter::ExodusMesh
-  Postprocess::exodus_mesh() const
+  Postprocess::exodus_mesh(const DoFHandler<dim> &dofs) const
   {
     OutputWriter::ExodusMesh mesh;
     // Element block ids: the blocks' material ids (an Exodus mesh's block
@@ -375,7 +431,7 @@ namespace perideal
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       if (!discretization.is_virtual(i))
         {
-          mesh.point_cells.push_back(cloud.cell[i]);
+          mesh.point_cells.push_back(on(dofs, cloud.cell[i]));
           mesh.point_X.insert(mesh.point_X.end(), &cloud.X[dim * i], &cloud.X[dim * i] + dim);
           mesh.point_block.push_back(cloud.block[i]);
           mesh.point_id.push_back(cloud.gid[i] + 1);
@@ -383,9 +439,9 @@ namespace perideal
     mesh.point_ids_end = cloud.n_global(); // virtual points too: the continuum's ids follow
     if (has_continuum)
       for (const auto &cell : discretization.dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned() && cell->active_fe_index() > 0)
+        if (cell->is_locally_owned() && discretization.is_fe_cell(cell))
           {
-            mesh.fe_cells.push_back(cell);
+            mesh.fe_cells.push_back(on(dofs, cell));
             mesh.fe_block.push_back(discretization.block_of_cell(cell));
           }
     return mesh;
@@ -494,9 +550,14 @@ namespace perideal
         pcout << "  block '" << b.name << "': " << Utilities::MPI::sum(b.points.size(), comm)
               << " points, material '" << b.material_name << "', horizon " << sci(b.horizon)
               << (b.damage ? ", damage: " + b.damage->describe() : std::string(", no damage")) << "\n";
+    // The constrained DoFs each rank owns (its constraints also hold its ghosts').
+    std::size_t constrained = 0;
+    if (has_continuum)
+      for (const auto &line : continuum->hanging.get_lines())
+        constrained += discretization.dof_handler.locally_owned_dofs().is_element(line.index);
     if (has_continuum)
       pcout << "  finite elements:   " << continuum->n_global_dofs << " DoFs (hanging-node constraints "
-            << Utilities::MPI::sum(continuum->hanging.n_constraints(), comm) << "), blending band "
+            << Utilities::MPI::sum(constrained, comm) << "), blending band "
             << sci(deck.coupling.blending_width, 3) << " horizons, virtual point levels "
             << (deck.coupling.virtual_point_levels < 0 ? std::string("auto") : std::to_string(deck.coupling.virtual_point_levels)) << "\n";
     for (const auto &bc : conditions.conditions)

@@ -38,8 +38,9 @@ namespace perideal
     CellIterator       cell;
   };
 
-  /// The locally owned DoFs of the locally owned cells @p selected accepts
-  /// (all if empty), each once, in the order the cells first reach them.
+  /// The locally owned DoFs of the cells @p selected accepts (all if
+  /// empty), each once, in the order the cells first reach them: the
+  /// locally owned cells, then the ghost cells.
   std::vector<DoFNode>
   owned_nodes(const dealii::DoFHandler<dim>                      &dof_handler,
               const std::function<bool(const CellIterator &)>  &selected = {});
@@ -187,6 +188,13 @@ namespace perideal
     /// K's sparsity pattern, entries zero. Collective.
     void
     make_matrix();
+
+    /// hanging: the constraints of the hanging nodes between FE cells
+    /// (those of @p model_of) on the locally @p relevant DoFs.
+    void
+    make_hanging_constraints(const dealii::DoFHandler<dim>                                         &dof_handler,
+                             const std::function<const ContinuumModel *(const CellIterator &)> &model_of,
+                             const dealii::IndexSet                                                &relevant);
 
     /// One FE cell for apply_stiffness().
     void

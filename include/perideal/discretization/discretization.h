@@ -121,6 +121,23 @@ namespace perideal
     /// it, -1 if none.
     int
     block_of_cell(const CellIterator &cell) const;
+    /// An FE cell: one of a continuum block that has not converted. A
+    /// converted cell keeps the active FE index (FE_Q(p)) it had, so that a
+    /// conversion does not number the DoFs again: the index alone does not
+    /// say whether a cell is FE.
+    bool
+    is_fe_cell(const CellIterator &cell) const
+    {
+      return cell->active_fe_index() > 0 && (converted.empty() || !converted[cell->active_cell_index()]);
+    }
+    /// An FE cell of the points and bonds as last built: between marking
+    /// cells converted and the rebuild, the cells that convert still are.
+    bool
+    was_fe_cell(const CellIterator &cell) const
+    {
+      return cell->active_fe_index() > 0 &&
+             (converted_when_built.empty() || !converted_when_built[cell->active_cell_index()]);
+    }
     /// A point of a continuum block: it follows the FE field.
     bool
     is_virtual(const unsigned int i) const
@@ -183,7 +200,8 @@ namespace perideal
 
     dealii::parallel::distributed::Triangulation<dim> triangulation;
     // FE_DGQ(0)^dim on PD cells (active FE index 0), FE_Q(p)^dim on the cells
-    // of continuum blocks (index p).
+    // of continuum blocks (index p), converted cells too (is_fe_cell()):
+    // the DoFs are numbered when the mesh changes, not when cells convert.
     dealii::hp::FECollection<dim> fe;
     dealii::DoFHandler<dim>       dof_handler;
     PointCloud                    cloud;
@@ -210,6 +228,8 @@ namespace perideal
     // into a cell of block converted_block; empty before any conversion.
     std::vector<std::uint8_t> converted;
     unsigned int              converted_block = 0;
+    // converted as the points and bonds were last built with it.
+    std::vector<std::uint8_t> converted_when_built;
     // Set by Adaptivity around a rebuild: the families that points far
     // from the converted cells keep (find_families()); nullptr: search all.
     const PreviousFamilies *previous_families = nullptr;
@@ -266,6 +286,14 @@ namespace perideal
     /// Blocks/Names claims no cell (a silent no-op otherwise).
     void
     check_blocks_have_cells() const;
+    /// The block whose region or material ids claim @p cell (the first),
+    /// converted or not; -1 if none.
+    int
+    claiming_block(const CellIterator &cell) const;
+    /// Each owned cell's element from its claiming block and the DoFs
+    /// numbered, unless numbered since the mesh last changed. Collective.
+    void
+    number_dofs();
     /// Collective: stops if a point's cell has no positive volume, naming
     /// the cell and whether it is below the resolution of a double.
     void
@@ -318,5 +346,8 @@ namespace perideal
     // released first).
     CellGeometry                                        cell_geometry;
     std::vector<boost::signals2::scoped_connection>     geometry_connections;
+    // The DoFs are numbered for the mesh as it is: false from a change of
+    // the mesh (refinement, repartition, load) to the next numbering.
+    bool dofs_numbered = false;
   };
 } // namespace perideal

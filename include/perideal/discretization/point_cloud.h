@@ -29,6 +29,13 @@
 namespace perideal
 {
   using CellIterator = dealii::DoFHandler<dim>::active_cell_iterator;
+
+  /// @p cell as a cell of @p dofs (another numbering of its triangulation).
+  inline CellIterator
+  on(const dealii::DoFHandler<dim> &dofs, const CellIterator &cell)
+  {
+    return CellIterator(&dofs.get_triangulation(), cell->level(), cell->index(), &dofs);
+  }
   using PointKey     = std::array<unsigned int, 4>;
 
   /// Calls @p forget whenever the cells of @p triangulation change (created,

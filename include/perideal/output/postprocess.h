@@ -12,7 +12,12 @@
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
+#include <deal.II/dofs/dof_handler.h>
 
+#include <boost/signals2/connection.hpp>
+
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,9 +79,27 @@ namespace perideal
     ComputeData
     compute_data() const;
 
-    /// This rank's points and continuum cells for Output/Field format = exodus.
+    /// This rank's points and continuum cells for Output/Field format =
+    /// exodus, as cells of @p dofs.
     OutputWriter::ExodusMesh
-    exodus_mesh() const;
+    exodus_mesh(const dealii::DoFHandler<dim> &dofs) const;
+
+    /// The DoFs the field files are written through: FE_DGQ(0) on PD cells
+    /// (a point's values), FE_Q(p) on FE cells. The discretization's until a
+    /// cell converts; then a numbering of their own, made again when the
+    /// converted cells or the mesh have changed since it was made (the
+    /// discretization's keeps FE_Q on a converted cell: is_fe_cell()).
+    /// Collective.
+    const dealii::DoFHandler<dim> &
+    written_dofs();
+    /// @p out (on written_dofs(), not the discretization's DoFs) takes the
+    /// FE cells' values of @p fe (on the discretization's).
+    void
+    copy_fe_values(const VectorType &fe, const dealii::DoFHandler<dim> &dofs, VectorType &out) const;
+    std::unique_ptr<dealii::DoFHandler<dim>>        own_written_dofs;
+    std::vector<std::uint8_t>                       written_dofs_converted; // converted when they were numbered
+    bool                                            written_dofs_numbered = false; // since the mesh changed
+    std::vector<boost::signals2::scoped_connection> written_dofs_connections;
 
     /// The summary's line on an adaptive run's time (this run's timer):
     /// the loop split into stepping, the indicator's checks and the
