@@ -59,6 +59,7 @@ namespace perideal
     geometry_connections = on_mesh_change(triangulation, [this]() {
       cell_geometry.clear();
       dofs_numbered = false;
+      converted_when_built.clear(); // by the old cells' indices
     });
   }
 

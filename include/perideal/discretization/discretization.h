@@ -132,6 +132,8 @@ namespace perideal
     }
     /// An FE cell of the points and bonds as last built: between marking
     /// cells converted and the rebuild, the cells that convert still are.
+    /// Only on the mesh they were built on (after a refinement or a move
+    /// every cell of a continuum block counts).
     bool
     was_fe_cell(const CellIterator &cell) const
     {
@@ -228,7 +230,8 @@ namespace perideal
     // into a cell of block converted_block; empty before any conversion.
     std::vector<std::uint8_t> converted;
     unsigned int              converted_block = 0;
-    // converted as the points and bonds were last built with it.
+    // converted as the points and bonds were last built with it; empty
+    // from a change of the mesh to the next build.
     std::vector<std::uint8_t> converted_when_built;
     // Set by Adaptivity around a rebuild: the families that points far
     // from the converted cells keep (find_families()); nullptr: search all.
