@@ -152,7 +152,10 @@ namespace perideal
     AffineConstraints<double> all(relevant);
     DoFTools::make_hanging_node_constraints(dof_handler, all);
     if (all.n_constraints() == 0)
-      return hanging.close();
+      {
+        hanging.close();
+        return;
+      }
     // deal.II constrains a fine cell's DoFs on the face of a coarser cell
     // that has FE_Q DoFs. A converted cell keeps its FE_Q DoFs (the
     // numbering holds through conversions: Discretization::is_fe_cell()),
