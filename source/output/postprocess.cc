@@ -24,6 +24,7 @@
 #include <memory>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace perideal
 {
@@ -341,7 +342,8 @@ namespace perideal
               fe.update_ghost_values();
               if (renumbered)
                 {
-                  copy_fe_values(fe, written, out);
+                  for (const auto &[from, to] : written_fe_dofs)
+                    out(to) = fe(from);
                   out.update_ghost_values();
                 }
             }
@@ -387,6 +389,7 @@ namespace perideal
               cell->set_active_fe_index(discretization.is_fe_cell(fe_cell) ? fe_cell->active_fe_index() : 0);
             }
         own_written_dofs->distribute_dofs(discretization.fe);
+        map_fe_dofs();
         written_dofs_converted = converted;
         written_dofs_numbered  = true;
       }
@@ -394,20 +397,23 @@ namespace perideal
   }
 
   void
-  Postprocess::copy_fe_values(const VectorType &fe, const DoFHandler<dim> &dofs, VectorType &out) const
+  Postprocess::map_fe_dofs()
   {
-    // Each owned DoF lies on an owned cell of its rank.
+    // Each owned DoF of the written numbering lies on an owned FE cell.
+    const IndexSet                      &owned = own_written_dofs->locally_owned_dofs();
+    std::vector<std::uint8_t>            mapped(owned.n_elements(), 0);
     std::vector<types::global_dof_index> from, to;
+    written_fe_dofs.clear();
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && discretization.is_fe_cell(cell))
         {
           from.resize(cell->get_fe().n_dofs_per_cell());
           to.resize(from.size());
           cell->get_dof_indices(from);
-          on(dofs, cell)->get_dof_indices(to);
+          on(*own_written_dofs, cell)->get_dof_indices(to);
           for (unsigned int j = 0; j < from.size(); ++j)
-            if (out.in_local_range(to[j]))
-              out(to[j]) = fe(from[j]);
+            if (owned.is_element(to[j]) && !std::exchange(mapped[owned.index_within_set(to[j])], 1))
+              written_fe_dofs.emplace_back(from[j], to[j]);
         }
   }
 

@@ -92,11 +92,14 @@ namespace perideal
     /// Collective.
     const dealii::DoFHandler<dim> &
     written_dofs();
-    /// @p out (on written_dofs(), not the discretization's DoFs) takes the
-    /// FE cells' values of @p fe (on the discretization's).
+    /// written_fe_dofs for the numbering just made.
     void
-    copy_fe_values(const VectorType &fe, const dealii::DoFHandler<dim> &dofs, VectorType &out) const;
+    map_fe_dofs();
     std::unique_ptr<dealii::DoFHandler<dim>>        own_written_dofs;
+    // Per DoF of an FE cell that own_written_dofs owns: its index in the
+    // discretization's numbering and in the written one (made once per
+    // numbering, read by every nodal field of every output step).
+    std::vector<std::pair<dealii::types::global_dof_index, dealii::types::global_dof_index>> written_fe_dofs;
     std::vector<std::uint8_t>                       written_dofs_converted; // converted when they were numbered
     bool                                            written_dofs_numbered = false; // since the mesh changed
     std::vector<boost::signals2::scoped_connection> written_dofs_connections;
