@@ -40,6 +40,7 @@
 #include <perideal/base/expression.h>
 #include <perideal/material/elastic_constants.h>
 #include <perideal/material/material.h>
+#include <perideal/neighborhood/bond_pairs.h>
 
 #include <cmath>
 
@@ -131,6 +132,12 @@ namespace perideal
         halves = !state.bonds.family.empty();
         if (partial || halves)
           constant_influence = false;
+        // Partial volumes and half bonds keep directed families: their two
+        // halves need not weigh the same.
+        if (partial || halves)
+          pairs.clear();
+        else
+          pairs.reinit(state.cloud, state.bonds, points, block);
         if (!constant_influence)
           omega.assign(state.bonds.n_bonds(), 0.0);
         if (halves)
@@ -514,6 +521,11 @@ namespace perideal
       void
       dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
       {
+        if (pairs.serves(points))
+          {
+            pair_dilatation<mode, weighted, periodic, heated>(state, points);
+            return;
+          }
         const Periodicity   box      = state.cloud.periodicity;
         const double       *X        = state.cloud.X.data();
         const double       *V        = state.cloud.volume.data();
@@ -678,6 +690,12 @@ namespace perideal
       void
       force(const ModelState &state, const std::vector<unsigned int> &points) const
       {
+        if constexpr (!two_halves)
+          if (pairs.serves(points))
+            {
+              pair_force<mode, energy, weighted, periodic, heated>(state, points);
+              return;
+            }
         const Periodicity   box      = state.cloud.periodicity;
         const double       *X        = state.cloud.X.data();
         const double       *V        = state.cloud.volume.data();
@@ -742,6 +760,208 @@ namespace perideal
               }
           }
       }
+
+      /// What the pair loops read and write, gathered once per pass.
+      struct PairData
+      {
+        Periodicity           box;
+        const double         *X, *V, *u;
+        const unsigned int   *neighbor;
+        const unsigned short *block_of;
+        std::uint8_t         *broken;   // breaking modes
+        const std::uint8_t   *damage;   // binary damage (broken flags)
+        double                limit;    // the squared limit (StretchBreaking) ...
+        const double         *limit_at; // ... or by the far end's block
+        const double         *d;        // continuous damage
+        const double         *w_bond;   // weighted only
+        double                omega0;
+        const double         *eps_T;              // heated only
+        const double         *alpha, *beta, *theta; // force pass
+        double               *sum;                // dilatation pass: sum_j w |xi| e V_j
+        double               *f, *energy;         // force pass
+        unsigned int          n_owned, block;
+      };
+
+      PairData
+      pair_data(const ModelState &state) const
+      {
+        return {state.cloud.periodicity, state.cloud.X.data(), state.cloud.volume.data(), state.u,
+                state.bonds.neighbor.data(), state.cloud.block.data(), nullptr, state.broken, 0.0, nullptr,
+                state.damage, omega.data(), omega0, state.thermal_strain, nullptr, nullptr, nullptr, nullptr,
+                state.force, state.energy, pairs.n_owned, pairs.block};
+      }
+
+      /// The weight omega (1 - d) of bond b.
+      template <BondDamage mode, bool weighted>
+      static double
+      bond_weight(const PairData &p, const std::size_t b)
+      {
+        const double w = weighted ? p.w_bond[b] : p.omega0;
+        return mode == BondDamage::none       ? w :
+               mode == BondDamage::continuous ? w * (1.0 - p.d[b]) :
+                                                w * (1.0 - p.damage[b]);
+      }
+
+      /// dilatation() with each bond between two points of the list
+      /// evaluated once (BondPairs): w |xi| e is added to the sums of both
+      /// ends, with V_j to i's and V_i to j's; then theta = 3 sum / m.
+      template <BondDamage mode, bool weighted, bool periodic, bool heated>
+      void
+      pair_dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
+      {
+        const auto [broken, damage, limit, limit_at] = bond_damage_view<mode>(state);
+        PairData p = pair_data(state);
+        p.broken   = broken;
+        p.damage   = damage;
+        p.limit    = limit;
+        p.limit_at = limit_at;
+        double *theta = state.fields.get("dilatation").begin();
+        p.sum         = theta;
+        for (const unsigned int i : points)
+          theta[i] = 0;
+        const std::size_t newly_broken =
+          pairs.for_each_part(state.cloud, state.bonds, points, broken, [&](auto part, auto... range) {
+            return pair_dilatation_loop<decltype(part)::value, mode, weighted, periodic, heated>(p, range...);
+          });
+        const double *m     = state.fields.get("weighted_volume").begin();
+        const double *gamma = state.fields.get("lps_gamma").begin();
+        double       *alpha = state.fields.get("lps_alpha").begin();
+        for (const unsigned int i : points)
+          {
+            theta[i] = m[i] > 0 ? 3 * theta[i] / m[i] : 0.0;
+            alpha[i] = gamma[i] * theta[i];
+          }
+        if (breaks(mode))
+          state.breaking->newly_broken += newly_broken;
+      }
+
+      /// The bonds [from, last) of point i, the @p part of its family, in
+      /// the dilatation's sums; returns the halves newly broken. Vectorized
+      /// over the bonds with gathers and scatters as PMB's pair loop: no two
+      /// bonds of a family share a far end, and a masked bond adds +0 to i.
+      template <PairPart part, BondDamage mode, bool weighted, bool periodic, bool heated>
+      static std::size_t
+      pair_dilatation_loop(const PairData &p, const unsigned int i, const std::size_t from, const std::size_t last)
+      {
+        constexpr bool   masked = pair_masked(part), scatter = pair_scatters(part);
+        constexpr bool   by_block = mode == BondDamage::breaking_by_block;
+        const BondOrigin origin(p.X, p.u, i);
+        const double     Vi  = p.V[i];
+        double           sum = 0;
+        std::size_t      newly = 0;
+  #pragma omp simd reduction(+ : sum, newly)
+        for (std::size_t b = from; b < last; ++b)
+          {
+            const unsigned int j = p.neighbor[b];
+            unsigned int       on_i, on_j;
+            pair_shares<part>(masked && j < p.n_owned && p.block_of[j] == p.block, on_i, on_j);
+            double e[3], y[3];
+            bond_vectors<periodic>(p.X, p.u, j, origin, p.box, e, y);
+            const double r0sq = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+            const double rsq  = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+            if (breaks(mode))
+              newly += (on_i + on_j) * break_if_overstretched(rsq, r0sq, by_block ? p.limit_at[j] : p.limit, p.broken[b]);
+            const double r0  = std::sqrt(r0sq);
+            const double r   = std::sqrt(rsq);
+            const double ext = heated ? r - r0 - 0.5 * (p.eps_T[i] + p.eps_T[j]) * r0 : r - r0;
+            const double wx  = bond_weight<mode, weighted>(p, b) * r0 * ext;
+            sum += on_i != 0 ? wx * p.V[j] : 0.0;
+            if constexpr (scatter)
+              p.sum[masked && on_j == 0 ? i : j] += on_j != 0 ? wx * Vi : 0.0;
+          }
+        p.sum[i] += sum;
+        return newly;
+      }
+
+      /// force() with each bond between two points of the list evaluated
+      /// once (BondPairs): the bond's scalar t = t_ij + t_ji is the same for
+      /// both ends; t y / r is added to i with V_j and taken from j with V_i,
+      /// and each end's deviatoric energy takes its own theta.
+      template <BondDamage mode, bool energy, bool weighted, bool periodic, bool heated>
+      void
+      pair_force(const ModelState &state, const std::vector<unsigned int> &points) const
+      {
+        PairData p = pair_data(state);
+        p.alpha    = state.fields.get("lps_alpha").begin();
+        p.beta     = state.fields.get("lps_beta").begin();
+        p.theta    = state.fields.get("dilatation").begin();
+        pairs.for_each_part(state.cloud, state.bonds, points, nullptr, [&](auto part, auto... range) {
+          pair_force_loop<decltype(part)::value, mode, energy, weighted, periodic, heated>(p, range...);
+          return std::size_t(0);
+        });
+        if (energy)
+          {
+            // The dilatation's share, once per point.
+            const double *m     = state.fields.get("weighted_volume").begin();
+            const double *gamma = state.fields.get("lps_gamma").begin();
+            for (const unsigned int i : points)
+              {
+                // Weighted: w_i K = m_i (gamma_i + beta_i / 3) / 3 of the scaled fields.
+                const double Ki = energy_weighted ? m[i] * (gamma[i] + p.beta[i] / 3) / 3 : K;
+                state.energy[i] += 0.5 * Ki * p.theta[i] * p.theta[i];
+              }
+          }
+      }
+
+      /// The bonds [from, last) of point i, the @p part of its family, in
+      /// the force and the deviatoric energy (vectorized as
+      /// pair_dilatation_loop()).
+      template <PairPart part, BondDamage mode, bool energy, bool weighted, bool periodic, bool heated>
+      static void
+      pair_force_loop(const PairData &p, const unsigned int i, const std::size_t from, const std::size_t last)
+      {
+        constexpr bool      masked = pair_masked(part), scatter = pair_scatters(part);
+        const double       *V = p.V, *alpha = p.alpha, *beta = p.beta, *theta = p.theta, *eps_T = p.eps_T;
+        double             *f = p.f, *energy_density = p.energy;
+        const BondOrigin    origin(p.X, p.u, i);
+        const double        Vi = V[i], ai = alpha[i], bi = beta[i], third_theta = theta[i] / 3;
+        double              fx = 0, fy = 0, fz = 0, Wd = 0;
+  #pragma omp simd reduction(+ : fx, fy, fz, Wd)
+        for (std::size_t b = from; b < last; ++b)
+          {
+            const unsigned int j = p.neighbor[b];
+            unsigned int       on_i, on_j;
+            pair_shares<part>(masked && j < p.n_owned && p.block_of[j] == p.block, on_i, on_j);
+            double ev[3], y[3];
+            bond_vectors<periodic>(p.X, p.u, j, origin, p.box, ev, y);
+            const double dx = y[0], dy = y[1], dz = y[2];
+            const double r0 = std::sqrt(ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2]);
+            const double r  = std::sqrt(dx * dx + dy * dy + dz * dz);
+            const double e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
+            const double w  = bond_weight<mode, weighted>(p, b);
+            const double kb = w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e) / r;
+            // Selects, not products: a masked bond adds +0 even where its
+            // force is not finite.
+            const double       ki = on_i != 0 ? kb * V[j] : 0.0, kj = on_j != 0 ? kb * Vi : 0.0;
+            const unsigned int target = masked && on_j == 0 ? i : j;
+            fx += ki * dx;
+            fy += ki * dy;
+            fz += ki * dz;
+            if constexpr (scatter)
+              {
+                f[3 * target] -= kj * dx;
+                f[3 * target + 1] -= kj * dy;
+                f[3 * target + 2] -= kj * dz;
+              }
+            if (energy)
+              {
+                const double edi = e - third_theta * r0;
+                Wd += on_i != 0 ? w * edi * edi * V[j] : 0.0;
+                if constexpr (scatter)
+                  {
+                    const double edj = e - theta[j] / 3 * r0;
+                    energy_density[target] += on_j != 0 ? 0.5 * beta[j] * w * edj * edj * Vi : 0.0;
+                  }
+              }
+          }
+        f[3 * i] += fx;
+        f[3 * i + 1] += fy;
+        f[3 * i + 2] += fz;
+        if (energy)
+          energy_density[i] += 0.5 * bi * Wd;
+      }
+
+      BondPairs pairs;
     };
   } // namespace
 

@@ -528,7 +528,7 @@ namespace perideal
       /// once (BondPairs): at the end with the smaller key, its force k y
       /// per unit volume added to i with V_j and taken from j with V_i, its
       /// energy to both alike. A family that reaches outside the list takes
-      /// its bonds with a mask (Part).
+      /// its bonds with a mask (PairPart).
       template <bool uniform_c, BondDamage mode, bool energy, bool periodic, bool heated>
       void
       pair_kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
@@ -538,22 +538,10 @@ namespace perideal
                             state.bonds.neighbor.data(), state.cloud.block.data(), broken, damage, limit, limit_at,
                             state.damage, c_field.begin(), micromodulus(), state.force, state.energy,
                             state.thermal_strain, pairs.n_owned, pairs.block};
-        const std::size_t *offsets      = state.bonds.offsets.data();
-        std::size_t        newly_broken = 0;
-        for (std::size_t k = 0; k < points.size(); ++k)
-          {
-            const unsigned int i     = points[k];
-            const std::size_t  first = offsets[i], tail = first + pairs.upper[k], last = offsets[i + 1];
-            // A family that reaches outside the list: its head for i alone
-            // (no scatter), its tail masked.
-            const std::size_t broke =
-              pairs.mixed[k] ? pair_loop<Part::head, uniform_c, mode, energy, periodic, heated>(data, i, first, tail) +
-                                 pair_loop<Part::masked_tail, uniform_c, mode, energy, periodic, heated>(data, i, tail, last) :
-                               pair_loop<Part::tail, uniform_c, mode, energy, periodic, heated>(data, i, tail, last);
-            if (breaks(mode) && broke != 0)
-              break_other_halves(state, i, tail, last);
-            newly_broken += broke;
-          }
+        const std::size_t newly_broken =
+          pairs.for_each_part(state.cloud, state.bonds, points, broken, [&](auto part, auto... range) {
+            return pair_loop<decltype(part)::value, uniform_c, mode, energy, periodic, heated>(data, range...);
+          });
         if (breaks(mode))
           state.breaking->newly_broken += newly_broken;
       }
@@ -577,26 +565,14 @@ namespace perideal
         unsigned int          n_owned, block;
       };
 
-      /// Which bonds of a family pair_loop() takes: the tail of a family
-      /// inside the list (each bond for both ends), or of one that reaches
-      /// outside (for both ends where the far end is in the list, else for
-      /// i), or the head of one that reaches outside (for i where the far
-      /// end is outside the list, else for neither).
-      enum class Part
-      {
-        tail,
-        masked_tail,
-        head
-      };
-
       /// The bonds [from, last) of point i, which are the @p part of its
       /// family; returns the halves newly broken (two for a bond evaluated for
       /// both ends).
-      template <Part part, bool uniform_c, BondDamage mode, bool energy, bool periodic, bool heated>
+      template <PairPart part, bool uniform_c, BondDamage mode, bool energy, bool periodic, bool heated>
       static std::size_t
       pair_loop(const PairData &p, const unsigned int i, const std::size_t from, const std::size_t last)
       {
-        constexpr bool masked = part != Part::tail, scatter = part != Part::head;
+        constexpr bool masked = pair_masked(part), scatter = pair_scatters(part);
         constexpr bool      by_block = mode == BondDamage::breaking_by_block;
         const double       *X = p.X, *V = p.V, *u = p.u, *c = p.c, *d = p.d, *eps_T = p.eps_T, *limit_at = p.limit_at;
         const unsigned int *neighbor = p.neighbor;
@@ -615,13 +591,8 @@ namespace perideal
           {
             const unsigned int j = neighbor[b];
             // The share of the bond's force each end takes: 1 or 0.
-            unsigned int on_i = 1, on_j = 1;
-            if constexpr (masked)
-              {
-                const unsigned int listed = j < p.n_owned && p.block_of[j] == p.block;
-                on_j                      = scatter ? listed : 0;
-                on_i                      = scatter ? 1 : 1 - listed;
-              }
+            unsigned int on_i, on_j;
+            pair_shares<part>(masked && j < p.n_owned && p.block_of[j] == p.block, on_i, on_j);
             double e[3], y[3];
             bond_vectors<periodic>(X, u, j, origin, p.box, e, y);
             const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];
@@ -667,21 +638,6 @@ namespace perideal
         if (energy)
           energy_density[i] += w;
         return newly;
-      }
-
-      /// A tail bond of point i to a point of the list that broke was
-      /// evaluated for both ends: break the far end's half too (rare: only
-      /// in a family where a bond broke this step).
-      void
-      break_other_halves(const ModelState &state, const unsigned int i, const std::size_t tail, const std::size_t last) const
-      {
-        std::uint8_t *broken = state.breaking->broken;
-        for (std::size_t b = tail; b < last; ++b)
-          {
-            const unsigned int j = state.bonds.neighbor[b];
-            if (broken[b] != 0 && j < pairs.n_owned && state.cloud.block[j] == pairs.block)
-              broken[BondPairs::reverse(state.cloud, state.bonds, i, j)] = 1;
-          }
       }
 
       BondPairs pairs;

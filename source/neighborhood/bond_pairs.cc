@@ -23,7 +23,16 @@ namespace perideal
       {
         const unsigned int i     = points[k];
         const std::size_t  first = bonds.offsets[i], last = bonds.offsets[i + 1];
-        std::size_t        b     = first;
+        // No point bonds to an extra point (force blending's node points;
+        // find_families()): its family is one-sided, so it takes every bond
+        // for itself alone.
+        if (cloud.is_extra(i))
+          {
+            upper[k] = static_cast<unsigned int>(last - first);
+            mixed[k] = one_sided;
+            continue;
+          }
+        std::size_t b = first;
         while (b < last && cloud.key[bonds.neighbor[b]] < cloud.key[i])
           ++b;
         upper[k]         = static_cast<unsigned int>(b - first);
@@ -39,7 +48,7 @@ namespace perideal
         // order: a tail that is not the larger keys would evaluate some
         // bonds twice and others never.
         AssertThrow(sorted_tail, ExcInternalError());
-        mixed[k] = outside;
+        mixed[k] = outside ? reaches_outside : inside;
       }
   }
 
@@ -49,6 +58,18 @@ namespace perideal
     upper.clear();
     mixed.clear();
     list = nullptr;
+  }
+
+  void
+  BondPairs::break_other_halves(const PointCloud &cloud, const Bonds &bonds, const unsigned int i,
+                                const std::size_t tail, const std::size_t last, std::uint8_t *broken) const
+  {
+    for (std::size_t b = tail; b < last; ++b)
+      {
+        const unsigned int j = bonds.neighbor[b];
+        if (broken[b] != 0 && listed(j, cloud.block.data()))
+          broken[reverse(cloud, bonds, i, j)] = 1;
+      }
   }
 
   std::size_t

@@ -11,10 +11,51 @@
 #include <perideal/neighborhood/bonds.h>
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace perideal
 {
+  /// Which bonds of a family a pair loop takes: the tail of a family inside
+  /// the list (each bond for both ends), or of one that reaches outside (for
+  /// both ends where the far end is in the list, else for i), or the head of
+  /// one that reaches outside (for i where the far end is outside the list,
+  /// else for neither: the far end takes it in its tail).
+  /// A one-sided family (an extra point's) is all `own`: every bond for i
+  /// alone.
+  enum class PairPart
+  {
+    tail,
+    masked_tail,
+    head,
+    own
+  };
+
+  /// Whether a part's bonds take a mask (which end each acts on depends on
+  /// whether the far end is in the list), and whether any of them acts on
+  /// the far end (a scatter).
+  constexpr bool
+  pair_masked(const PairPart part)
+  {
+    return part == PairPart::masked_tail || part == PairPart::head;
+  }
+  constexpr bool
+  pair_scatters(const PairPart part)
+  {
+    return part == PairPart::tail || part == PairPart::masked_tail;
+  }
+
+  /// The share of bond i -> j each end takes in @p part, 1 or 0, given
+  /// whether j is in the list (pair_masked() parts only); a kernel applies
+  /// them as selects, not products (0 inf would be NaN).
+  template <PairPart part>
+  inline void
+  pair_shares(const unsigned int listed, unsigned int &on_i, unsigned int &on_j)
+  {
+    on_i = part == PairPart::head ? 1 - listed : 1;
+    on_j = part == PairPart::tail ? 1 : part == PairPart::masked_tail ? listed : 0;
+  }
+
   class BondPairs
   {
   public:
@@ -37,6 +78,51 @@ namespace perideal
       return list != nullptr && points.data() == list && points.size() == upper.size();
     }
 
+    /// Whether point @p j is in the list (@p block_of: the cloud's blocks).
+    bool
+    listed(const unsigned int j, const unsigned short *block_of) const
+    {
+      return j < n_owned && block_of[j] == block;
+    }
+
+    /// Calls loop(part, i, from, last) for the parts of the family of each
+    /// point i of the list (a std::integral_constant<PairPart, ...> and the
+    /// bond range): the tail alone of a family inside the list, the head and
+    /// the masked tail of one that reaches outside. loop returns the halves
+    /// it broke; with @p broken (breaking modes) the far end's half of a
+    /// tail bond that broke is broken too. Returns the halves broken.
+    template <typename Loop>
+    std::size_t
+    for_each_part(const PointCloud &cloud, const Bonds &bonds, const std::vector<unsigned int> &points,
+                  std::uint8_t *broken, const Loop &loop) const
+    {
+      using Tail   = std::integral_constant<PairPart, PairPart::tail>;
+      using Masked = std::integral_constant<PairPart, PairPart::masked_tail>;
+      using Head   = std::integral_constant<PairPart, PairPart::head>;
+      using Own    = std::integral_constant<PairPart, PairPart::own>;
+      std::size_t newly_broken = 0;
+      for (std::size_t k = 0; k < points.size(); ++k)
+        {
+          const unsigned int i     = points[k];
+          const std::size_t  first = bonds.offsets[i], tail = first + upper[k], last = bonds.offsets[i + 1];
+          const std::size_t  broke = mixed[k] == inside          ? loop(Tail(), i, tail, last) :
+                                     mixed[k] == reaches_outside ? loop(Head(), i, first, tail) +
+                                                                     loop(Masked(), i, tail, last) :
+                                                                   loop(Own(), i, first, last);
+          if (broken != nullptr && broke != 0)
+            break_other_halves(cloud, bonds, i, tail, last, broken);
+          newly_broken += broke;
+        }
+      return newly_broken;
+    }
+
+    /// A tail bond of point i to a point of the list that broke was
+    /// evaluated for both ends: break the far end's half too (rare: only in
+    /// a family where a bond broke this step).
+    void
+    break_other_halves(const PointCloud &cloud, const Bonds &bonds, unsigned int i, std::size_t tail,
+                       std::size_t last, std::uint8_t *broken) const;
+
     /// The index of bond j -> i in j's family (bonds are symmetric: i holds
     /// j exactly when j holds i). Binary search by key: for the other half
     /// of a bond that breaks.
@@ -46,10 +132,12 @@ namespace perideal
     /// Per point of the list (its place k): the offset within its family of
     /// the first bond whose far end's key is larger than the point's own.
     std::vector<unsigned int> upper;
-    /// Per point of the list: 1 if a far end of its family is not in the
-    /// list (a ghost, or a point of another block): its bonds then take a
-    /// mask, which end each one acts on.
+    /// Per point of the list: reaches_outside if a far end of its family is
+    /// not in the list (a ghost, or a point of another block): its bonds
+    /// then take a mask, which end each one acts on; one_sided for an extra
+    /// point, whose far ends do not hold it (its tail is empty).
     std::vector<std::uint8_t> mixed;
+    static constexpr std::uint8_t inside = 0, reaches_outside = 1, one_sided = 2;
     /// The block, and the number of owned points: far end j is in the list
     /// if j < n_owned and its block is this one.
     unsigned int block   = 0;
