@@ -215,25 +215,6 @@ namespace perideal
     // mass, horizon, block.
     constexpr unsigned int record_size = 1 + dim + 4;
 
-    /// A cell list over points: bins of edge @p edge, found by sorting.
-    struct CellList
-    {
-      double                     lower[3], edge;
-      std::vector<std::uint64_t> key;   // sorted
-      std::vector<unsigned int>  point; // in key order
-
-      static std::uint64_t
-      pack(const std::int64_t i, const std::int64_t j, const std::int64_t k)
-      {
-        return (std::uint64_t(i) << 42) | (std::uint64_t(j) << 21) | std::uint64_t(k);
-      }
-      std::int64_t
-      bin(const double x, const unsigned int d) const
-      {
-        return std::int64_t(std::floor((x - lower[d]) / edge)) + 1; // >= 1: neighbors at -1 stay >= 0
-      }
-    };
-
     /// Refuses a pair of blocks whose points coincide (BestPoint's tag: the
     /// two blocks' index pair), naming them and the place.
     void
@@ -253,121 +234,166 @@ namespace perideal
     }
   } // namespace
 
+  /// A cell list over points: bins of edge @p edge, found by sorting.
+  struct Contact::CellList
+  {
+    double                     lower[3], edge;
+    std::vector<std::uint64_t> key;   // sorted
+    std::vector<unsigned int>  point; // in key order
+
+    static std::uint64_t
+    pack(const std::int64_t i, const std::int64_t j, const std::int64_t k)
+    {
+      return (std::uint64_t(i) << 42) | (std::uint64_t(j) << 21) | std::uint64_t(k);
+    }
+    std::int64_t
+    bin(const double x, const unsigned int d) const
+    {
+      return std::int64_t(std::floor((x - lower[d]) / edge)) + 1; // >= 1: neighbors at -1 stay >= 0
+    }
+  };
+
   void
   Contact::build(const VectorType &u)
   {
-    const unsigned int n       = cloud.n_owned();
-    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
-    const unsigned int my_rank = Utilities::MPI::this_mpi_process(comm);
-    const double      *U       = u.begin();
-    for (unsigned int k = 0; k < dim * n; ++k)
-      u_at_build[k] = U[k];
+    const double *U = u.begin();
+    std::copy(U, U + dim * cloud.n_owned(), u_at_build.begin());
+    const std::vector<types::global_dof_index> previous_ghosts = gather_contact_ghosts(U);
+    // The same contact ghosts as before (the common case between rebuilds):
+    // the partitioners stay. Collective decision: every rank builds anew or none.
+    const bool same_ghosts = partitioner && Utilities::MPI::min(ghost_gid == previous_ghosts ? 1u : 0u, comm) == 1;
+    if (!same_ghosts)
+      make_partitioners();
+    const std::vector<double> y = current_positions(U);
+    find_pairs(y, sort_into_cells(y));
+    ++builds;
+    steps_since_build = 0;
+    built             = true;
+    scanned_version   = std::numeric_limits<std::size_t>::max();
+  }
 
+  std::vector<types::global_dof_index>
+  Contact::gather_contact_ghosts(const double *U)
+  {
     // Contact ghosts: the points of other ranks within the search radius of
     // this rank's current bounding box.
+    const unsigned int n = cloud.n_owned();
     X.resize(dim * n);
     volume.resize(n);
     mass.resize(n);
     horizon.resize(n);
     block.resize(n);
-    const std::vector<types::global_dof_index> previous_ghosts = std::move(ghost_gid);
+    std::vector<types::global_dof_index> previous_ghosts = std::move(ghost_gid);
     ghost_gid.clear();
-    if (n_ranks > 1)
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    if (n_ranks == 1)
+      return previous_ghosts;
+    const auto                                  boxes   = Utilities::MPI::all_gather(comm, bounding_box(U));
+    const unsigned int                          my_rank = Utilities::MPI::this_mpi_process(comm);
+    std::map<unsigned int, std::vector<double>> to_send;
+    for (unsigned int r = 0; r < n_ranks; ++r)
+      if (r != my_rank && boxes[r][0] <= boxes[r][dim])
+        to_send[r] = ghost_records_near(boxes[r], U); // empty too: some_to_some needs no more
+    const auto received = Utilities::MPI::some_to_some(comm, to_send);
+    // The partitioner numbers ghosts in ascending global index.
+    std::vector<const double *> records;
+    for (const auto &entry : received)
+      for (std::size_t r = 0; r < entry.second.size(); r += record_size)
+        records.push_back(entry.second.data() + r);
+    std::sort(records.begin(), records.end(), [](const double *a, const double *b) { return a[0] < b[0]; });
+    for (const double *p : records)
       {
-        std::array<double, 2 * dim> box;
+        ghost_gid.push_back(static_cast<types::global_dof_index>(p[0]));
+        for (unsigned int d = 0; d < dim; ++d)
+          X.push_back(p[1 + d]);
+        volume.push_back(p[1 + dim]);
+        mass.push_back(p[2 + dim]);
+        horizon.push_back(p[3 + dim]);
+        block.push_back(static_cast<unsigned short>(p[4 + dim]));
+      }
+    return previous_ghosts;
+  }
+
+  std::array<double, 2 * dim>
+  Contact::bounding_box(const double *U) const
+  {
+    std::array<double, 2 * dim> box;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        box[d]       = std::numeric_limits<double>::max();
+        box[dim + d] = -std::numeric_limits<double>::max();
+      }
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      if (active[i])
         for (unsigned int d = 0; d < dim; ++d)
           {
-            box[d]       = std::numeric_limits<double>::max();
-            box[dim + d] = -std::numeric_limits<double>::max();
+            const double y = X[dim * i + d] + U[dim * i + d];
+            box[d]         = std::min(box[d], y);
+            box[dim + d]   = std::max(box[dim + d], y);
           }
-        for (unsigned int i = 0; i < n; ++i)
-          if (active[i])
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                const double y = X[dim * i + d] + U[dim * i + d];
-                box[d]         = std::min(box[d], y);
-                box[dim + d]   = std::max(box[dim + d], y);
-              }
-        const auto boxes = Utilities::MPI::all_gather(comm, box);
-        std::map<unsigned int, std::vector<double>> to_send;
-        for (unsigned int r = 0; r < n_ranks; ++r)
-          {
-            if (r == my_rank || boxes[r][0] > boxes[r][dim])
-              continue;
-            std::vector<double> records;
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                if (!active[i])
-                  continue;
-                bool inside = true;
-                for (unsigned int d = 0; d < dim && inside; ++d)
-                  {
-                    const double y = X[dim * i + d] + U[dim * i + d];
-                    inside         = y >= boxes[r][d] - radius && y <= boxes[r][dim + d] + radius;
-                  }
-                if (!inside)
-                  continue;
-                records.push_back(cloud.gid[i]);
-                for (unsigned int d = 0; d < dim; ++d)
-                  records.push_back(X[dim * i + d]);
-                records.push_back(volume[i]);
-                records.push_back(mass[i]);
-                records.push_back(horizon[i]);
-                records.push_back(block[i]);
-              }
-            to_send[r] = std::move(records); // empty too: some_to_some needs no more
-          }
-        const auto received = Utilities::MPI::some_to_some(comm, to_send);
-        // The partitioner numbers ghosts in ascending global index.
-        std::vector<const double *> records;
-        for (const auto &entry : received)
-          for (std::size_t r = 0; r < entry.second.size(); r += record_size)
-            records.push_back(entry.second.data() + r);
-        std::sort(records.begin(), records.end(), [](const double *a, const double *b) { return a[0] < b[0]; });
-        for (const double *p : records)
-          {
-            ghost_gid.push_back(static_cast<types::global_dof_index>(p[0]));
-            for (unsigned int d = 0; d < dim; ++d)
-              X.push_back(p[1 + d]);
-            volume.push_back(p[1 + dim]);
-            mass.push_back(p[2 + dim]);
-            horizon.push_back(p[3 + dim]);
-            block.push_back(static_cast<unsigned short>(p[4 + dim]));
-          }
-      }
-    // The same contact ghosts as before (the common case between rebuilds):
-    // the partitioners stay. Collective decision: every rank builds anew or none.
-    const bool same_ghosts = partitioner && Utilities::MPI::min(ghost_gid == previous_ghosts ? 1u : 0u, comm) == 1;
-    if (!same_ghosts)
-    {
-      const types::global_dof_index n_global = cloud.n_global(), first = n > 0 ? cloud.gid[0] : 0;
-      const unsigned int            w        = stride;
-      IndexSet                      owned(w * n_global), ghost(w * n_global);
-      owned.add_range(w * first, w * (first + n));
-      std::vector<types::global_dof_index> entries;
-      entries.reserve(w * ghost_gid.size());
-      for (const auto g : ghost_gid)
-        for (unsigned int c = 0; c < w; ++c)
-          entries.push_back(w * g + c);
-      ghost.add_indices(entries.begin(), entries.end());
-      owned.compress();
-      ghost.compress();
-      partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned, ghost, comm);
-      uv.reinit(partitioner);
-      if (counts_needed)
-        {
-          IndexSet owned_points(n_global), ghost_points(n_global);
-          owned_points.add_range(first, first + n);
-          ghost_points.add_indices(ghost_gid.begin(), ghost_gid.end());
-          owned_points.compress();
-          ghost_points.compress();
-          count_partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned_points, ghost_points, comm);
-          counts.reinit(count_partitioner);
-        }
-    }
+    return box;
+  }
 
-    // The cell list over every point that takes part, at its current position.
-    const unsigned int n_local = n + ghost_gid.size();
+  std::vector<double>
+  Contact::ghost_records_near(const std::array<double, 2 * dim> &box, const double *U) const
+  {
+    std::vector<double> records;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      {
+        if (!active[i])
+          continue;
+        bool inside = true;
+        for (unsigned int d = 0; d < dim && inside; ++d)
+          {
+            const double y = X[dim * i + d] + U[dim * i + d];
+            inside         = y >= box[d] - radius && y <= box[dim + d] + radius;
+          }
+        if (!inside)
+          continue;
+        records.push_back(cloud.gid[i]);
+        for (unsigned int d = 0; d < dim; ++d)
+          records.push_back(X[dim * i + d]);
+        records.push_back(volume[i]);
+        records.push_back(mass[i]);
+        records.push_back(horizon[i]);
+        records.push_back(block[i]);
+      }
+    return records;
+  }
+
+  void
+  Contact::make_partitioners()
+  {
+    const unsigned int            n        = cloud.n_owned();
+    const types::global_dof_index n_global = cloud.n_global(), first = n > 0 ? cloud.gid[0] : 0;
+    const unsigned int            w        = stride;
+    IndexSet                      owned(w * n_global), ghost(w * n_global);
+    owned.add_range(w * first, w * (first + n));
+    std::vector<types::global_dof_index> entries;
+    entries.reserve(w * ghost_gid.size());
+    for (const auto g : ghost_gid)
+      for (unsigned int c = 0; c < w; ++c)
+        entries.push_back(w * g + c);
+    ghost.add_indices(entries.begin(), entries.end());
+    owned.compress();
+    ghost.compress();
+    partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned, ghost, comm);
+    uv.reinit(partitioner);
+    if (!counts_needed)
+      return;
+    IndexSet owned_points(n_global), ghost_points(n_global);
+    owned_points.add_range(first, first + n);
+    ghost_points.add_indices(ghost_gid.begin(), ghost_gid.end());
+    owned_points.compress();
+    ghost_points.compress();
+    count_partitioner = std::make_shared<Utilities::MPI::Partitioner>(owned_points, ghost_points, comm);
+    counts.reinit(count_partitioner);
+  }
+
+  std::vector<double>
+  Contact::current_positions(const double *U)
+  {
+    const unsigned int n = cloud.n_owned(), n_local = n + ghost_gid.size();
     for (unsigned int i = 0; i < n; ++i)
       for (unsigned int d = 0; d < dim; ++d)
         uv.local_element(stride * i + d) = U[dim * i + d];
@@ -376,8 +402,15 @@ namespace perideal
     for (unsigned int i = 0; i < n_local; ++i)
       for (unsigned int d = 0; d < dim; ++d)
         y[dim * i + d] = X[dim * i + d] + uv.local_element(stride * i + d);
-    const auto takes = [&](const unsigned int i) { return i >= n || active[i]; };
-    CellList   cells;
+    return y;
+  }
+
+  Contact::CellList
+  Contact::sort_into_cells(const std::vector<double> &y) const
+  {
+    const unsigned int n = cloud.n_owned(), n_local = n + ghost_gid.size();
+    const auto         takes = [&](const unsigned int i) { return i >= n || active[i]; };
+    CellList           cells;
     for (unsigned int d = 0; d < dim; ++d)
       cells.lower[d] = std::numeric_limits<double>::max();
     double upper[3] = {-std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
@@ -406,7 +439,45 @@ namespace perideal
         cells.key[k]   = keyed[k].first;
         cells.point[k] = keyed[k].second;
       }
+    return cells;
+  }
 
+  void
+  Contact::points_within(const unsigned int i, const std::vector<double> &y, const CellList &cells,
+                         std::vector<unsigned int> &found) const
+  {
+    const unsigned int n_blocks = blocks.size();
+    const double       r2       = radius * radius;
+    found.clear();
+    const std::int64_t b[3] = {cells.bin(y[dim * i], 0), cells.bin(y[dim * i + 1], 1), cells.bin(y[dim * i + 2], 2)};
+    // z is the key's lowest field: the three bins along z are one run of keys.
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        {
+          const auto first =
+            std::lower_bound(cells.key.begin(), cells.key.end(), cells.pack(b[0] + dx, b[1] + dy, b[2] - 1));
+          const auto last = std::upper_bound(first, cells.key.end(), cells.pack(b[0] + dx, b[1] + dy, b[2] + 1));
+          for (auto it = first; it != last; ++it)
+            {
+              const unsigned int j = cells.point[it - cells.key.begin()];
+              if (j == i || model_of[block[i] * n_blocks + block[j]] < 0)
+                continue;
+              double dist2 = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  const double e = y[dim * j + d] - y[dim * i + d];
+                  dist2 += e * e;
+                }
+              if (dist2 <= r2)
+                found.push_back(j);
+            }
+        }
+  }
+
+  void
+  Contact::find_pairs(const std::vector<double> &y, const CellList &cells)
+  {
+    const unsigned int n = cloud.n_owned();
     // The cloud's local index of a contact-local point (for the bond lookup):
     // owned points are the same, ghosts by global index among the cloud's
     // nonlocal ghosts (sorted by it); not there: bonded to no owned point.
@@ -419,7 +490,6 @@ namespace perideal
                                                     numbers::invalid_unsigned_int;
     };
     const auto global_id = [&](const unsigned int j) { return j < n ? cloud.gid[j] : ghost_gid[j - n]; };
-
     for (auto &list : lists)
       {
         list.first.clear();
@@ -428,16 +498,15 @@ namespace perideal
         list.bonded_second.clear();
         list.bond.clear();
       }
-    const unsigned int             n_blocks = blocks.size();
-    const double                   r2       = radius * radius;
-    std::vector<unsigned int>      found;
+    const unsigned int        n_blocks = blocks.size();
+    std::vector<unsigned int> found;
     // Per cloud-local point: its bond from the point i at hand (marked over
     // i's family, unmarked after), so that a found pair finds its bond in
     // O(1) rather than by a scan of the family.
     constexpr std::size_t    no_bond = std::numeric_limits<std::size_t>::max();
     std::vector<std::size_t> bond_to(cloud.n_local(), no_bond);
     // Unbonded pairs at distance 0 at the start (the first build).
-    BestPoint coincident(BestPoint::Order::smallest);
+    BestPoint  coincident(BestPoint::Order::smallest);
     const auto same_place = [&](const unsigned int i, const unsigned int j) {
       bool same = true;
       for (unsigned int d = 0; d < dim; ++d)
@@ -448,30 +517,7 @@ namespace perideal
       {
         if (!active[i])
           continue;
-        found.clear();
-        const std::int64_t b[3] = {cells.bin(y[dim * i], 0), cells.bin(y[dim * i + 1], 1), cells.bin(y[dim * i + 2], 2)};
-        // z is the key's lowest field: the three bins along z are one run of keys.
-        for (int dx = -1; dx <= 1; ++dx)
-          for (int dy = -1; dy <= 1; ++dy)
-            {
-              const auto first = std::lower_bound(cells.key.begin(), cells.key.end(),
-                                                  cells.pack(b[0] + dx, b[1] + dy, b[2] - 1));
-              const auto last  = std::upper_bound(first, cells.key.end(), cells.pack(b[0] + dx, b[1] + dy, b[2] + 1));
-              for (auto it = first; it != last; ++it)
-                {
-                  const unsigned int j = cells.point[it - cells.key.begin()];
-                  if (j == i || model_of[block[i] * n_blocks + block[j]] < 0)
-                    continue;
-                  double dist2 = 0;
-                  for (unsigned int d = 0; d < dim; ++d)
-                    {
-                      const double e = y[dim * j + d] - y[dim * i + d];
-                      dist2 += e * e;
-                    }
-                  if (dist2 <= r2)
-                    found.push_back(j);
-                }
-            }
+        points_within(i, y, cells, found);
         // The same order on any number of ranks: by global index.
         std::sort(found.begin(), found.end(), [&](unsigned int a, unsigned int c) { return global_id(a) < global_id(c); });
         for (std::size_t k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
@@ -501,12 +547,7 @@ namespace perideal
       }
     if (builds == 0)
       refuse_coincident(coincident.global(comm), blocks);
-    ++builds;
-    steps_since_build = 0;
-    built             = true;
-    scanned_version   = std::numeric_limits<std::size_t>::max();
   }
-
 
   std::size_t
   Contact::n_pairs() const

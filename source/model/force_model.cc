@@ -102,6 +102,43 @@ namespace perideal
               << "out of the body (" << text.str() << "): no Blocks/*/Material ids or Region holds them";
       warnings.push_back(message.str());
     }
+
+    /// Blocks @p a and @p c share a damage law that depends on the horizon
+    /// but have different horizons.
+    void
+    report_uneven_horizons(const Block &a, const Block &c)
+    {
+      const auto number = [](const double x) {
+        std::ostringstream out;
+        out << x;
+        return out.str();
+      };
+      AssertThrow(false,
+                  ExcMessage("blocks '" + a.name + "' and '" + c.name + "' share damage model '" + a.damage_name +
+                             "', whose law depends on the horizon, but have different horizons (" +
+                             number(a.horizon) + ", " + number(c.horizon) +
+                             "): the two halves of a bond between them would break at different "
+                             "energies. Give them one horizon, or separate them by more than a horizon"));
+    }
+
+    /// Blocks @p a and @p c are bonded and apply different damage laws,
+    /// one of them a law of its own.
+    void
+    report_mixed_damage_laws(const Block &a, const Block &c)
+    {
+      const auto model = [](const Block &x) {
+        return x.damage_name.empty() ? std::string("no damage model") : "damage model '" + x.damage_name + "'";
+      };
+      const bool cont = (a.damage && a.damage->continuous()) || (c.damage && c.damage->continuous());
+      AssertThrow(false,
+                  ExcMessage("blocks '" + a.name + "' (" + model(a) + ") and '" + c.name + "' (" + model(c) +
+                             ") are within a horizon of each other, and one of them has a " +
+                             (cont ? "continuous damage model" :
+                                     "damage model with a law of its own (not a critical stretch)") +
+                             ": the two halves of a bond between them would follow "
+                             "different laws. Give both blocks the same damage model, or separate "
+                             "them by more than a horizon"));
+    }
   } // namespace
 
   std::vector<PointField>
@@ -150,34 +187,67 @@ namespace perideal
   void
   ForceModel::setup()
   {
+    collect_block_points();
+    check_models_across_blocks();
+    setup_bond_damage();
+    check_damage_laws_across_blocks();
+    setup_mechanical_state();
+    declare_model_fields();
+    initialize_models();
+    setup_damage_options();
+    warn_thermal(blocks, temperature_function != nullptr, record.warnings);
+    if (!unclaimed_reported) // once: an adaptive rebuild's refinement changes the counts, not the fact
+      warn_unclaimed_cells(discretization, comm, record.warnings);
+    unclaimed_reported = true;
+    if (temperature_function)
+      {
+        temperature_change.reinit(cloud.scalar_partitioner);
+        thermal_strain.reinit(cloud.scalar_partitioner);
+        update_temperature();
+      }
+    rigid.setup(blocks, cloud, mechanical.mass_density, comm);
+    fields->update_ghost_values(FieldUse::constant);
+    // The history starts from the initial state.
+    fields->commit();
+  }
+
+  void
+  ForceModel::collect_block_points()
+  {
     for (auto &block : blocks)
       block.points.clear();
     for (unsigned int i = 0; i < cloud.n_owned(); ++i)
       blocks[cloud.block[i]].points.push_back(i);
+  }
 
+  void
+  ForceModel::check_models_across_blocks() const
+  {
     // Bonds between blocks of different models cannot be evaluated by either.
-    {
-      std::vector<std::string> model(blocks.size());
-      for (unsigned int b = 0; b < blocks.size(); ++b)
-        model[b] = typeid(*blocks[b].material).name();
-      bool mixed = false;
-      std::pair<unsigned int, unsigned int> pair{0, 0};
-      for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-        for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-          {
-            const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
-            if (bi != bj && model[bi] != model[bj])
-              mixed = true, pair = {bi, bj};
-          }
-      const unsigned int any = Utilities::MPI::max(mixed ? 1u : 0u, comm);
-      AssertThrow(any == 0,
-                  ExcMessage("blocks '" + blocks[pair.first].name + "' and '" + blocks[pair.second].name +
-                             "' (or others) are within a horizon of each other but use different "
-                             "material models; bonds between models are not defined: use the same "
-                             "model with different parameters, or separate the blocks by more than "
-                             "a horizon"));
-    }
+    std::vector<std::string> model(blocks.size());
+    for (unsigned int b = 0; b < blocks.size(); ++b)
+      model[b] = typeid(*blocks[b].material).name();
+    bool                                  mixed = false;
+    std::pair<unsigned int, unsigned int> pair{0, 0};
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+        {
+          const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
+          if (bi != bj && model[bi] != model[bj])
+            mixed = true, pair = {bi, bj};
+        }
+    const unsigned int any = Utilities::MPI::max(mixed ? 1u : 0u, comm);
+    AssertThrow(any == 0,
+                ExcMessage("blocks '" + blocks[pair.first].name + "' and '" + blocks[pair.second].name +
+                           "' (or others) are within a horizon of each other but use different "
+                           "material models; bonds between models are not defined: use the same "
+                           "model with different parameters, or separate the blocks by more than "
+                           "a horizon"));
+  }
 
+  void
+  ForceModel::setup_bond_damage()
+  {
     bool any_damage = false;
     continuous.assign(blocks.size(), false);
     for (unsigned int k = 0; k < blocks.size(); ++k)
@@ -205,79 +275,60 @@ namespace perideal
                " (check its corner, vectors and lengths; the side runs along Bottom unit vector x Normal)" :
                " (its region '" + entry.region + "' holds no point)"));
         }
+    if (std::find(continuous.begin(), continuous.end(), true) != continuous.end())
+      damage.assign(broken.begin(), broken.end()); // d = 1 where initially broken
+  }
+
+  void
+  ForceModel::check_damage_laws_across_blocks() const
+  {
     // Both halves of a bond take the same d only if both owners apply the
     // same law: a bond from a block whose model decides by a law of its own
     // (not a critical stretch, which BondStretchLimits applies across blocks)
-    // must end in a block with the same model.
+    // must end in a block with the same model, and one of the same horizon
+    // if the law depends on it.
     std::vector<bool> own_law(blocks.size(), false);
     for (unsigned int k = 0; k < blocks.size(); ++k)
       own_law[k] = blocks[k].damage && !blocks[k].damage->stretch_criterion();
-    if (std::find(own_law.begin(), own_law.end(), true) != own_law.end())
-      {
-        std::pair<unsigned int, unsigned int> pair{0, 0}, horizons{0, 0};
-        unsigned int                          mixed = 0, uneven = 0;
-        for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-          for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
-            {
-              const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
-              if ((own_law[bi] || own_law[bj]) && blocks[bi].damage_name != blocks[bj].damage_name)
-                mixed = 1, pair = {std::min(bi, bj), std::max(bi, bj)};
-              else if (own_law[bi] && blocks[bi].damage->horizon_dependent() &&
-                       blocks[bi].horizon != blocks[bj].horizon)
-                uneven = 1, horizons = {std::min(bi, bj), std::max(bi, bj)};
-            }
-        const unsigned int uneven_code =
-          Utilities::MPI::min(uneven ? horizons.first * blocks.size() + horizons.second :
-                                       std::numeric_limits<unsigned int>::max(),
-                              comm);
-        if (uneven_code != std::numeric_limits<unsigned int>::max())
-          {
-            const Block &a = blocks[uneven_code / blocks.size()], &c = blocks[uneven_code % blocks.size()];
-            const auto   number = [](const double x) {
-              std::ostringstream out;
-              out << x;
-              return out.str();
-            };
-            AssertThrow(false,
-                        ExcMessage("blocks '" + a.name + "' and '" + c.name + "' share damage model '" +
-                                   a.damage_name + "', whose law depends on the horizon, but have different "
-                                   "horizons (" + number(a.horizon) + ", " + number(c.horizon) +
-                                   "): the two halves of a bond between them would break at different "
-                                   "energies. Give them one horizon, or separate them by more than a horizon"));
-          }
-        // The same pair on every rank that names one: the smallest.
-        const unsigned int code = Utilities::MPI::min(mixed ? pair.first * blocks.size() + pair.second :
-                                                              std::numeric_limits<unsigned int>::max(),
-                                                      comm);
-        if (code != std::numeric_limits<unsigned int>::max())
-          {
-            const Block &a = blocks[code / blocks.size()], &c = blocks[code % blocks.size()];
-            const auto   model = [](const Block &x) {
-              return x.damage_name.empty() ? std::string("no damage model") : "damage model '" + x.damage_name + "'";
-            };
-            const bool cont = (a.damage && a.damage->continuous()) || (c.damage && c.damage->continuous());
-            AssertThrow(false,
-                        ExcMessage("blocks '" + a.name + "' (" + model(a) + ") and '" + c.name + "' (" + model(c) +
-                                   ") are within a horizon of each other, and one of them has a " +
-                                   (cont ? "continuous damage model" :
-                                           "damage model with a law of its own (not a critical stretch)") +
-                                   ": the two halves of a bond between them would follow "
-                                   "different laws. Give both blocks the same damage model, or separate "
-                                   "them by more than a horizon"));
-          }
-      }
-    if (std::find(continuous.begin(), continuous.end(), true) != continuous.end())
-      damage.assign(broken.begin(), broken.end()); // d = 1 where initially broken
+    if (std::find(own_law.begin(), own_law.end(), true) == own_law.end())
+      return;
+    // A pair of blocks as one number, the same on every rank that names
+    // one: the smallest; none: the largest unsigned int.
+    const unsigned int none = std::numeric_limits<unsigned int>::max();
+    unsigned int       mixed = none, uneven = none;
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
+      for (std::size_t b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b)
+        {
+          const unsigned int bi = cloud.block[i], bj = cloud.block[bonds.neighbor[b]];
+          const unsigned int code = std::min(bi, bj) * blocks.size() + std::max(bi, bj);
+          if ((own_law[bi] || own_law[bj]) && blocks[bi].damage_name != blocks[bj].damage_name)
+            mixed = code;
+          else if (own_law[bi] && blocks[bi].damage->horizon_dependent() && blocks[bi].horizon != blocks[bj].horizon)
+            uneven = code;
+        }
+    uneven = Utilities::MPI::min(uneven, comm);
+    if (uneven != none)
+      report_uneven_horizons(blocks[uneven / blocks.size()], blocks[uneven % blocks.size()]);
+    mixed = Utilities::MPI::min(mixed, comm);
+    if (mixed != none)
+      report_mixed_damage_laws(blocks[mixed / blocks.size()], blocks[mixed % blocks.size()]);
+  }
 
-    fields = std::make_unique<FieldStore>(cloud);
+  void
+  ForceModel::setup_mechanical_state()
+  {
     mechanical.displacement.reinit(cloud.vector_partitioner);
     mechanical.velocity.reinit(cloud.vector_partitioner);
     mechanical.force.reinit(cloud.vector_partitioner);
     mechanical.mass_density.resize(cloud.n_owned());
-    for (unsigned int i = 0; i < cloud.n_owned(); ++i)
-      mechanical.mass_density[i] = discretization.is_virtual(i) ? 0.0 : blocks[cloud.block[i]].material->density(); // virtual: no mass of their own
+    for (unsigned int i = 0; i < cloud.n_owned(); ++i) // virtual points: no mass of their own
+      mechanical.mass_density[i] = discretization.is_virtual(i) ? 0.0 : blocks[cloud.block[i]].material->density();
+  }
 
-    ModelState state{cloud, bonds, nullptr, mechanical.displacement.begin(), mechanical.force.begin(), nullptr, *fields};
+  void
+  ForceModel::declare_model_fields()
+  {
+    fields           = std::make_unique<FieldStore>(cloud);
     has_stage_fields = false;
     for (const auto &block : blocks)
       if (block.damage && block.damage->uses_bond_energy())
@@ -301,6 +352,13 @@ namespace perideal
         for (const auto &f : bond)
           fields->declare(f, bonds.n_bonds());
       }
+  }
+
+  void
+  ForceModel::initialize_models()
+  {
+    const ModelState state{cloud,   bonds,   nullptr, mechanical.displacement.begin(), mechanical.force.begin(),
+                           nullptr, *fields};
     fused_breaking.clear();
     read_points.assign(blocks.size(), {});
     if (discretization.force_blending)
@@ -319,6 +377,11 @@ namespace perideal
           blocks[b].damage->initialize(*blocks[b].material, blocks[b].horizon);
         fused_breaking.emplace_back();
       }
+  }
+
+  void
+  ForceModel::setup_damage_options()
+  {
     neglecting = false;
     for (const auto &block : blocks)
       neglecting |= block.damage && block.neglect_damage < 1;
@@ -331,22 +394,6 @@ namespace perideal
       time_dependent_limits |= block.damage && block.damage->stretch_criterion() && block.damage->time_dependent();
     stretch_limits = BondStretchLimits(blocks.size(), cloud, bonds, comm);
     set_stretch_limits();
-    warn_thermal(blocks, temperature_function != nullptr, record.warnings);
-    if (!unclaimed_reported) // once: an adaptive rebuild's refinement changes the counts, not the fact
-      warn_unclaimed_cells(discretization, comm, record.warnings);
-    unclaimed_reported = true;
-    if (temperature_function)
-      {
-        temperature_change.reinit(cloud.scalar_partitioner);
-        thermal_strain.reinit(cloud.scalar_partitioner);
-        update_temperature();
-      }
-
-    rigid.setup(blocks, cloud, mechanical.mass_density, comm);
-
-    fields->update_ghost_values(FieldUse::constant);
-    // The history starts from the initial state.
-    fields->commit();
   }
 
   void

@@ -34,6 +34,7 @@
 #include <deal.II/base/partitioner.h>
 #include <deal.II/base/timer.h>
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -145,6 +146,37 @@ namespace perideal
     /// The contact ghosts and the Verlet list at the current positions. Collective.
     void
     build(const VectorType &u);
+    /// build()'s steps. The contact ghosts of this build, after the owned
+    /// points' data; returns the previous build's ghosts. Collective.
+    std::vector<dealii::types::global_dof_index>
+    gather_contact_ghosts(const double *U);
+    /// The current bounding box of this rank's points in contact: lower
+    /// corner, then upper.
+    std::array<double, 2 * dim>
+    bounding_box(const double *U) const;
+    /// The records (gid, X, volume, mass, horizon, block) of this rank's
+    /// points in contact within the search radius of @p box.
+    std::vector<double>
+    ghost_records_near(const std::array<double, 2 * dim> &box, const double *U) const;
+    /// The partitioners of uv (and counts) for the contact ghosts.
+    void
+    make_partitioners();
+    /// The current positions of the owned points and the contact ghosts.
+    std::vector<double>
+    current_positions(const double *U);
+    struct CellList;
+    /// The points in contact, binned at their current positions @p y.
+    CellList
+    sort_into_cells(const std::vector<double> &y) const;
+    /// Into @p found: the points within the search radius of owned point
+    /// @p i whose blocks are in contact with i's.
+    void
+    points_within(unsigned int i, const std::vector<double> &y, const CellList &cells,
+                  std::vector<unsigned int> &found) const;
+    /// The Verlet lists, unbonded and bonded pairs, of every owned point in
+    /// contact; at the first build, refuses unbonded points in one place.
+    void
+    find_pairs(const std::vector<double> &y, const CellList &cells);
 
     const ContactParameters &parameters;
     const std::vector<Block> &blocks;

@@ -329,6 +329,27 @@ namespace perideal
     /// stretch_limits and the fused limits.
     void
     set_stretch_limits();
+    /// setup()'s steps, in their order: each block's owned points; bonds
+    /// only between blocks of one model; the bond damage arrays; damage
+    /// laws that agree across blocks; the state vectors and masses; the
+    /// models' fields; the materials' and damage models' set-up; the
+    /// damage options (neglected points, the stretch limits).
+    void
+    collect_block_points();
+    void
+    check_models_across_blocks() const;
+    void
+    setup_bond_damage();
+    void
+    check_damage_laws_across_blocks() const;
+    void
+    setup_mechanical_state();
+    void
+    declare_model_fields();
+    void
+    initialize_models();
+    void
+    setup_damage_options();
     const std::vector<double>   *body_force = nullptr;
     Coupling                    *coupling   = nullptr;
     Contact                     *contact    = nullptr;
