@@ -864,10 +864,11 @@ namespace perideal
             const double r0  = std::sqrt(r0sq);
             const double r   = std::sqrt(rsq);
             const double ext = heated ? r - r0 - 0.5 * (p.eps_T[i] + p.eps_T[j]) * r0 : r - r0;
-            const double wx  = bond_weight<mode, weighted>(p, b) * r0 * ext;
-            sum += on_i != 0 ? wx * p.V[j] : 0.0;
+            const double    wx  = bond_weight<mode, weighted>(p, b) * r0 * ext;
+            const PairSplit add = split_pair<masked>(wx, Vi, p.V[j], i, j, on_i, on_j);
+            sum += add.on_i;
             if constexpr (scatter)
-              p.sum[masked && on_j == 0 ? i : j] += on_j != 0 ? wx * Vi : 0.0;
+              p.sum[add.target] += add.on_j;
           }
         p.sum[i] += sum;
         return newly;
@@ -930,19 +931,12 @@ namespace perideal
             const double e  = heated ? r - r0 - 0.5 * (eps_T[i] + eps_T[j]) * r0 : r - r0;
             const double w  = bond_weight<mode, weighted>(p, b);
             const double kb = w * (r0 * (ai + alpha[j]) + (bi + beta[j]) * e) / r;
-            // Selects, not products: a masked bond adds +0 even where its
-            // force is not finite.
-            const double       ki = on_i != 0 ? kb * V[j] : 0.0, kj = on_j != 0 ? kb * Vi : 0.0;
-            const unsigned int target = masked && on_j == 0 ? i : j;
-            fx += ki * dx;
-            fy += ki * dy;
-            fz += ki * dz;
+            const PairSplit k = split_pair<masked>(kb, Vi, V[j], i, j, on_i, on_j);
+            fx += k.on_i * dx;
+            fy += k.on_i * dy;
+            fz += k.on_i * dz;
             if constexpr (scatter)
-              {
-                f[3 * target] -= kj * dx;
-                f[3 * target + 1] -= kj * dy;
-                f[3 * target + 2] -= kj * dz;
-              }
+              scatter_pair_force(f, k.target, k.on_j, dx, dy, dz);
             if (energy)
               {
                 const double edi = e - third_theta * r0;
@@ -950,7 +944,7 @@ namespace perideal
                 if constexpr (scatter)
                   {
                     const double edj = e - theta[j] / 3 * r0;
-                    energy_density[target] += on_j != 0 ? 0.5 * beta[j] * w * edj * edj * Vi : 0.0;
+                    energy_density[k.target] += on_j != 0 ? 0.5 * beta[j] * w * edj * edj * Vi : 0.0;
                   }
               }
           }

@@ -611,25 +611,18 @@ namespace perideal
                                   mode == BondDamage::continuous ? 1.0 - d[b] :
                                                                    1.0 - damage[b];
             const double kb     = intact * cij * s / r;
-            // Selects, not products: a masked bond adds +0 even where its
-            // force is not finite (0 inf would be NaN).
-            const double ki = on_i != 0 ? kb * V[j] : 0.0, kj = on_j != 0 ? kb * Vi : 0.0;
-            const unsigned int target = masked && on_j == 0 ? i : j;
-            fx += ki * dx;
-            fy += ki * dy;
-            fz += ki * dz;
+            const PairSplit k = split_pair<masked>(kb, Vi, V[j], i, j, on_i, on_j);
+            fx += k.on_i * dx;
+            fy += k.on_i * dy;
+            fz += k.on_i * dz;
             if constexpr (scatter)
-              {
-                f[3 * target] -= kj * dx;
-                f[3 * target + 1] -= kj * dy;
-                f[3 * target + 2] -= kj * dz;
-              }
+              scatter_pair_force(f, k.target, k.on_j, dx, dy, dz);
             if (energy)
               {
-                const double wb = intact * 0.25 * cij * s * s * r0;
-                w += on_i != 0 ? wb * V[j] : 0.0;
+                const PairSplit wb = split_pair<masked>(intact * 0.25 * cij * s * s * r0, Vi, V[j], i, j, on_i, on_j);
+                w += wb.on_i;
                 if constexpr (scatter)
-                  energy_density[target] += on_j != 0 ? wb * Vi : 0.0;
+                  energy_density[wb.target] += wb.on_j;
               }
           }
         f[3 * i] += fx;

@@ -45,6 +45,34 @@ namespace perideal
     return part == PairPart::tail || part == PairPart::masked_tail;
   }
 
+  /// A pair loop's split of bond i -> j's force k y (per unit volume of
+  /// the other end): k V_j on i, k V_i on j, each only where that end takes
+  /// its share (selects, not products: 0 inf would be NaN); the far end's
+  /// part goes to @p target, which is i (with +0) for a masked bond that
+  /// acts on i alone. Inline: the pair loops stay vectorized.
+  struct PairSplit
+  {
+    double       on_i, on_j;
+    unsigned int target;
+  };
+  template <bool masked>
+  inline PairSplit
+  split_pair(const double k, const double Vi, const double Vj, const unsigned int i, const unsigned int j,
+             const unsigned int on_i, const unsigned int on_j)
+  {
+    return {on_i != 0 ? k * Vj : 0.0, on_j != 0 ? k * Vi : 0.0, masked && on_j == 0 ? i : j};
+  }
+
+  /// Takes @p k y from the force of point @p target (3 per point).
+  inline void
+  scatter_pair_force(double *f, const unsigned int target, const double k, const double dx, const double dy,
+                     const double dz)
+  {
+    f[3 * target] -= k * dx;
+    f[3 * target + 1] -= k * dy;
+    f[3 * target + 2] -= k * dz;
+  }
+
   /// The share of bond i -> j each end takes in @p part, 1 or 0, given
   /// whether j is in the list (pair_masked() parts only); a kernel applies
   /// them as selects, not products (0 inf would be NaN).
