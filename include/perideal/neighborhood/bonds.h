@@ -8,8 +8,9 @@
 // F(i) or i in F(j), and `family` says which halves of each entry are real
 // (see there). The union is symmetric, so i holds j exactly when j holds i.
 // Each family is sorted by the neighbors' rank-independent keys, so sums over
-// a family run in the same order on any number of ranks and a run gives the
-// same numbers on 1 and on N ranks.
+// a family run in the same order on any number of ranks and a directed loop
+// gives the same numbers on 1 and on N ranks (a pair loop, bond_pairs.h,
+// agrees to round-off).
 
 #include <perideal/discretization/point_cloud.h>
 
