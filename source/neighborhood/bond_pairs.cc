@@ -19,6 +19,7 @@ namespace perideal
     list    = points.data();
     upper.resize(points.size());
     mixed.resize(points.size());
+    std::size_t longest_tail = 0;
     for (std::size_t k = 0; k < points.size(); ++k)
       {
         const unsigned int i     = points[k];
@@ -48,8 +49,10 @@ namespace perideal
         // order: a tail that is not the larger keys would evaluate some
         // bonds twice and others never.
         AssertThrow(sorted_tail, ExcInternalError());
-        mixed[k] = outside ? reaches_outside : inside;
+        mixed[k]     = outside ? reaches_outside : inside;
+        longest_tail = std::max<std::size_t>(longest_tail, last - b);
       }
+    tail_before.assign(longest_tail, 0);
   }
 
   void
@@ -57,17 +60,19 @@ namespace perideal
   {
     upper.clear();
     mixed.clear();
+    tail_before.clear();
     list = nullptr;
   }
 
   void
   BondPairs::break_other_halves(const PointCloud &cloud, const Bonds &bonds, const unsigned int i,
-                                const std::size_t tail, const std::size_t last, std::uint8_t *broken) const
+                                const std::size_t tail, const std::size_t last, std::uint8_t *broken,
+                                const std::uint8_t *before) const
   {
     for (std::size_t b = tail; b < last; ++b)
       {
         const unsigned int j = bonds.neighbor[b];
-        if (broken[b] != 0 && listed(j, cloud.block.data()))
+        if (broken[b] != 0 && before[b - tail] == 0 && listed(j, cloud.block.data()))
           broken[reverse(cloud, bonds, i, j)] = 1;
       }
   }

@@ -10,6 +10,7 @@
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/neighborhood/bonds.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <type_traits>
 #include <vector>
@@ -133,23 +134,27 @@ namespace perideal
         {
           const unsigned int i     = points[k];
           const std::size_t  first = bonds.offsets[i], tail = first + upper[k], last = bonds.offsets[i + 1];
-          const std::size_t  broke = mixed[k] == inside          ? loop(Tail(), i, tail, last) :
+          if (broken != nullptr) // the tail's flags before: which of its bonds break now
+            std::copy(broken + tail, broken + last, tail_before.begin());
+          const std::size_t broke = mixed[k] == inside          ? loop(Tail(), i, tail, last) :
                                      mixed[k] == reaches_outside ? loop(Head(), i, first, tail) +
                                                                      loop(Masked(), i, tail, last) :
                                                                    loop(Own(), i, first, last);
           if (broken != nullptr && broke != 0)
-            break_other_halves(cloud, bonds, i, tail, last, broken);
+            break_other_halves(cloud, bonds, i, tail, last, broken, tail_before.data());
           newly_broken += broke;
         }
       return newly_broken;
     }
 
-    /// A tail bond of point i to a point of the list that broke was
-    /// evaluated for both ends: break the far end's half too (rare: only in
-    /// a family where a bond broke this step).
+    /// A tail bond of point i to a point of the list that broke now (set in
+    /// @p broken, not in @p before, the tail's flags before) was evaluated
+    /// for both ends: break the far end's half too. Only the new ones are
+    /// looked up: a search per broken bond of the family was 10% of the
+    /// LPS dmg cube's run.
     void
     break_other_halves(const PointCloud &cloud, const Bonds &bonds, unsigned int i, std::size_t tail,
-                       std::size_t last, std::uint8_t *broken) const;
+                       std::size_t last, std::uint8_t *broken, const std::uint8_t *before) const;
 
     /// The index of bond j -> i in j's family (bonds are symmetric: i holds
     /// j exactly when j holds i). Binary search by key: for the other half
@@ -173,5 +178,7 @@ namespace perideal
 
   private:
     const unsigned int *list = nullptr;
+    /// for_each_part()'s copy of a tail's broken flags (the longest tail).
+    mutable std::vector<std::uint8_t> tail_before;
   };
 } // namespace perideal
