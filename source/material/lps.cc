@@ -761,34 +761,23 @@ namespace perideal
           }
       }
 
-      /// What the pair loops read and write, gathered once per pass.
-      struct PairData
+      /// What the pair loops read and write besides PairLoopData, taken once
+      /// per pass.
+      struct PairData : PairLoopData
       {
-        Periodicity           box;
-        const double         *X, *V, *u;
-        const unsigned int   *neighbor;
-        const unsigned short *block_of;
-        std::uint8_t         *broken;   // breaking modes
-        const std::uint8_t   *damage;   // binary damage (broken flags)
-        double                limit;    // the squared limit (StretchBreaking) ...
-        const double         *limit_at; // ... or by the far end's block
-        const double         *d;        // continuous damage
-        const double         *w_bond;   // weighted only
-        double                omega0;
-        const double         *eps_T;              // heated only
-        const double         *alpha, *beta, *theta; // force pass
-        double               *sum;                // dilatation pass: sum_j w |xi| e V_j
-        double               *f, *energy;         // force pass
-        unsigned int          n_owned, block;
+        const double *w_bond; // weighted only
+        double        omega0;
+        const double *alpha, *beta, *theta; // force pass
+        double       *sum;                  // dilatation pass: sum_j w |xi| e V_j
+        double       *energy;               // force pass
       };
 
+      template <BondDamage mode>
       PairData
       pair_data(const ModelState &state) const
       {
-        return {state.cloud.periodicity, state.cloud.X.data(), state.cloud.volume.data(), state.u,
-                state.bonds.neighbor.data(), state.cloud.block.data(), nullptr, state.broken, 0.0, nullptr,
-                state.damage, omega.data(), omega0, state.thermal_strain, nullptr, nullptr, nullptr, nullptr,
-                state.force, state.energy, pairs.n_owned, pairs.block};
+        return {pair_loop_data<mode>(state, pairs), omega.data(), omega0, nullptr, nullptr, nullptr, nullptr,
+                state.energy};
       }
 
       /// The weight omega (1 - d) of bond b.
@@ -809,18 +798,13 @@ namespace perideal
       void
       pair_dilatation(const ModelState &state, const std::vector<unsigned int> &points) const
       {
-        const auto [broken, damage, limit, limit_at] = bond_damage_view<mode>(state);
-        PairData p = pair_data(state);
-        p.broken   = broken;
-        p.damage   = damage;
-        p.limit    = limit;
-        p.limit_at = limit_at;
-        double *theta = state.fields.get("dilatation").begin();
+        PairData p     = pair_data<mode>(state);
+        double  *theta = state.fields.get("dilatation").begin();
         p.sum         = theta;
         for (const unsigned int i : points)
           theta[i] = 0;
         const std::size_t newly_broken =
-          pairs.for_each_part(state.cloud, state.bonds, points, broken, [&](auto part, auto... range) {
+          pairs.for_each_part(state.cloud, state.bonds, points, p.broken, [&](auto part, auto... range) {
             return pair_dilatation_loop<decltype(part)::value, mode, weighted, periodic, heated>(p, range...);
           });
         const double *m     = state.fields.get("weighted_volume").begin();
@@ -854,7 +838,7 @@ namespace perideal
           {
             const unsigned int j = p.neighbor[b];
             unsigned int       on_i, on_j;
-            pair_shares<part>(masked && j < p.n_owned && p.block_of[j] == p.block, on_i, on_j);
+            pair_shares<part>(masked && p.listed(j), on_i, on_j);
             double e[3], y[3];
             bond_vectors<periodic>(p.X, p.u, j, origin, p.box, e, y);
             const double r0sq = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
@@ -882,7 +866,7 @@ namespace perideal
       void
       pair_force(const ModelState &state, const std::vector<unsigned int> &points) const
       {
-        PairData p = pair_data(state);
+        PairData p = pair_data<mode>(state);
         p.alpha    = state.fields.get("lps_alpha").begin();
         p.beta     = state.fields.get("lps_beta").begin();
         p.theta    = state.fields.get("dilatation").begin();
@@ -922,7 +906,7 @@ namespace perideal
           {
             const unsigned int j = p.neighbor[b];
             unsigned int       on_i, on_j;
-            pair_shares<part>(masked && j < p.n_owned && p.block_of[j] == p.block, on_i, on_j);
+            pair_shares<part>(masked && p.listed(j), on_i, on_j);
             double ev[3], y[3];
             bond_vectors<periodic>(p.X, p.u, j, origin, p.box, ev, y);
             const double dx = y[0], dy = y[1], dz = y[2];

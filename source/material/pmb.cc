@@ -533,36 +533,22 @@ namespace perideal
       void
       pair_kernel(const ModelState &state, const std::vector<unsigned int> &points, const VectorType &c_field) const
       {
-        const auto [broken, damage, limit, limit_at] = bond_damage_view<mode>(state);
-        const PairData    data{state.cloud.periodicity, state.cloud.X.data(), state.cloud.volume.data(), state.u,
-                            state.bonds.neighbor.data(), state.cloud.block.data(), broken, damage, limit, limit_at,
-                            state.damage, c_field.begin(), micromodulus(), state.force, state.energy,
-                            state.thermal_strain, pairs.n_owned, pairs.block};
+        const PairData data{pair_loop_data<mode>(state, pairs), c_field.begin(), micromodulus(), state.energy};
         const std::size_t newly_broken =
-          pairs.for_each_part(state.cloud, state.bonds, points, broken, [&](auto part, auto... range) {
+          pairs.for_each_part(state.cloud, state.bonds, points, data.broken, [&](auto part, auto... range) {
             return pair_loop<decltype(part)::value, uniform_c, mode, energy, periodic, heated>(data, range...);
           });
         if (breaks(mode))
           state.breaking->newly_broken += newly_broken;
       }
 
-      /// What pair_loop() reads, gathered once per kernel call.
-      struct PairData
+      /// What pair_loop() reads besides PairLoopData, taken once per kernel
+      /// call.
+      struct PairData : PairLoopData
       {
-        Periodicity           box;
-        const double         *X, *V, *u;
-        const unsigned int   *neighbor;
-        const unsigned short *block_of;
-        std::uint8_t         *broken;       // breaking modes
-        const std::uint8_t   *damage;       // binary damage (broken flags)
-        double                limit;        // the squared limit (StretchBreaking) ...
-        const double         *limit_at;     // ... or by the far end's block
-        const double         *d;            // continuous damage
-        const double         *c;
-        double                c_own;
-        double               *f, *energy_density;
-        const double         *eps_T;
-        unsigned int          n_owned, block;
+        const double *c;
+        double        c_own;
+        double       *energy_density;
       };
 
       /// The bonds [from, last) of point i, which are the @p part of its
@@ -592,7 +578,7 @@ namespace perideal
             const unsigned int j = neighbor[b];
             // The share of the bond's force each end takes: 1 or 0.
             unsigned int on_i, on_j;
-            pair_shares<part>(masked && j < p.n_owned && p.block_of[j] == p.block, on_i, on_j);
+            pair_shares<part>(masked && p.listed(j), on_i, on_j);
             double e[3], y[3];
             bond_vectors<periodic>(X, u, j, origin, p.box, e, y);
             const double ex = e[0], ey = e[1], ez = e[2], dx = y[0], dy = y[1], dz = y[2];

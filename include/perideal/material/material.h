@@ -16,6 +16,7 @@
 #include <perideal/base/input.h>
 #include <perideal/discretization/point_cloud.h>
 #include <perideal/material/field_store.h>
+#include <perideal/neighborhood/bond_pairs.h>
 #include <perideal/neighborhood/bonds.h>
 #include <perideal/material/tangent_rows.h>
 
@@ -238,6 +239,18 @@ namespace perideal
               mode == BondDamage::breaking_by_block ? state.breaking->limit_at : nullptr};
     else
       return {nullptr, state.broken, 0.0, nullptr};
+  }
+
+  /// The part of a pair loop's data every model takes alike: the cloud,
+  /// the bonds and @p mode's damage view of @p state, for @p pairs' list.
+  template <BondDamage mode>
+  PairLoopData
+  pair_loop_data(const ModelState &state, const BondPairs &pairs)
+  {
+    const BondDamageView v = bond_damage_view<mode>(state);
+    return {state.cloud.periodicity, state.cloud.X.data(), state.cloud.volume.data(), state.u,
+            state.bonds.neighbor.data(), state.cloud.block.data(), v.broken, v.damage, v.limit, v.limit_at,
+            state.damage, state.thermal_strain, state.force, pairs.n_owned, pairs.block};
   }
 
   class Material

@@ -85,6 +85,40 @@ namespace perideal
     on_j = part == PairPart::tail ? 1 : part == PairPart::masked_tail ? listed : 0;
   }
 
+  /// Whether far end @p j is in a pair list of block @p block: an owned
+  /// point (j < n_owned) of that block.
+  inline bool
+  pair_listed(const unsigned int j, const unsigned int n_owned, const unsigned int block,
+              const unsigned short *block_of)
+  {
+    return j < n_owned && block_of[j] == block;
+  }
+
+  /// What every pair loop reads and writes, taken into one struct per
+  /// kernel call; PMB's and LPS's PairData add their own fields.
+  struct PairLoopData
+  {
+    Periodicity           box;
+    const double         *X, *V, *u;
+    const unsigned int   *neighbor;
+    const unsigned short *block_of;
+    std::uint8_t         *broken;   // breaking modes
+    const std::uint8_t   *damage;   // binary damage (broken flags)
+    double                limit;    // the squared limit (StretchBreaking) ...
+    const double         *limit_at; // ... or by the far end's block
+    const double         *d;        // continuous damage
+    const double         *eps_T;    // heated only
+    double               *f;
+    unsigned int          n_owned, block;
+
+    /// Whether far end @p j is in the list (pair_listed()).
+    bool
+    listed(const unsigned int j) const
+    {
+      return pair_listed(j, n_owned, block, block_of);
+    }
+  };
+
   class BondPairs
   {
   public:
@@ -111,7 +145,7 @@ namespace perideal
     bool
     listed(const unsigned int j, const unsigned short *block_of) const
     {
-      return j < n_owned && block_of[j] == block;
+      return pair_listed(j, n_owned, block, block_of);
     }
 
     /// Calls loop(part, i, from, last) for the parts of the family of each
