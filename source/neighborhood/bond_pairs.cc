@@ -18,6 +18,7 @@ namespace perideal
     n_owned = cloud.n_owned();
     list    = points.data();
     upper.resize(points.size());
+    head_end.assign(points.size(), 0);
     mixed.resize(points.size());
     std::size_t longest_tail = 0;
     for (std::size_t k = 0; k < points.size(); ++k)
@@ -42,8 +43,11 @@ namespace perideal
         for (std::size_t c = first; c < last; ++c)
           {
             const unsigned int j = bonds.neighbor[c];
-            outside |= j >= n_owned || cloud.block[j] != block;
+            const bool         out = !listed(j, cloud.block.data());
+            outside |= out;
             sorted_tail &= (c < b) == (cloud.key[j] < cloud.key[i]);
+            if (out && c < b)
+              head_end[k] = static_cast<unsigned int>(c + 1 - first);
           }
         // find_families() sorts each family by key and filters keep the
         // order: a tail that is not the larger keys would evaluate some
@@ -59,6 +63,7 @@ namespace perideal
   BondPairs::clear()
   {
     upper.clear();
+    head_end.clear();
     mixed.clear();
     tail_before.clear();
     list = nullptr;
